@@ -1,0 +1,378 @@
+"""The layout of the robot as numbers: where every part goes, computed from the parameters alone.
+
+Every part family builds its solid from these numbers, so that parts agree with one another
+(house style rule 1: numbers first, solid second). Nothing here imports the CAD kernel.
+
+Frames and conventions (used by every module of the project)
+------------------------------------------------------------
+* **Body frame** (REP 103): origin at the nose tip, **+x forward** (swimming direction), +y to the fish's
+  left, +z up (dorsal). The body axis is the x axis; the body lies at x <= 0.
+* **Station** ``s`` is the distance from the nose along the axis, ``s = -x`` (mm in CAD, m in physics).
+* The hull's NACA 00xx chord is the body (fork) length L; cross-sections are ellipses with half-width
+  ``naca_half_width_mm(s)`` and half-height ``height_to_width`` times that.
+* Joint j (1..N, nose to tail) is a revolute joint about a vertical (z) axis through (x=-s_j, y=0).
+  Positive joint angle turns the child link's tail toward +y.
+* Kinematic link 0 is the head (base); link j is everything behind joint j up to joint j+1.
+* Motors stand in a row in the head, shafts up (+z), the stack (motor + spool) centred on the body axis;
+  the rear-most motor drives joint 1. The cables of the motors ahead of it run aft in lanes beside the
+  spools behind, one lane further out per motor ("exit" guides turn them into the lanes).
+* Behind the motor row, "bay" guides turn every cable down toward the hinge line of joint 1.
+* Cables cross the joints ahead of their own *on the hinge line* (y = 0), each at its own height
+  (pairs stacked upward from the axis, the last joint lowest), so a joint's
+  rotation does not change their length: no coupling between joints. They leave the hinge line of the
+  joint just ahead tangent to their own joint's tendon sector (radius = the tendon moment arm).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from physics.kinematics import max_relative_joint_angles_rad, wave_from_params
+from swiftfin.params import Problem
+from swiftfin.schema import Params
+
+
+# ----------------------------------------------------------------------------------------------- hull profile
+def naca_half_thickness(xi, t: float):
+    """NACA 00xx half thickness / chord at xi = s/L in [0, 1] (open trailing edge, standard coefficients)."""
+    xi = np.clip(np.asarray(xi, dtype=float), 0.0, 1.0)
+    return 5.0 * t * (0.2969 * np.sqrt(xi) - 0.1260 * xi - 0.3516 * xi**2 + 0.2843 * xi**3 - 0.1015 * xi**4)
+
+
+def naca_half_width_mm(p: Params, s_mm):
+    """Outer half-width of the hull at station s [mm] (NACA 00xx thickness distribution)."""
+    L = p.body.length_mm
+    return naca_half_thickness(np.asarray(s_mm, dtype=float) / L, p.body.naca_thickness_fraction) * L
+
+
+def half_height_mm(p: Params, s_mm):
+    """Outer half-height of the hull at station s [mm]."""
+    return p.body.height_to_width * naca_half_width_mm(p, s_mm)
+
+
+def interior_half_width_at_height_mm(p: Params, s_mm: float, z_mm: float) -> float:
+    """Inner half-width of the hull at station s and height z [mm] (ellipse shrunk by the wall); 0 if none."""
+    a = float(naca_half_width_mm(p, s_mm)) - p.hull.wall_thickness_mm
+    b = float(half_height_mm(p, s_mm)) - p.hull.wall_thickness_mm
+    if a <= 0 or b <= 0 or abs(z_mm) >= b:
+        return 0.0
+    return a * math.sqrt(1.0 - (z_mm / b) ** 2)
+
+
+def max_width_station_mm(p: Params) -> float:
+    """Station of maximum hull width [mm] (30 % of L for every NACA 00xx)."""
+    xi = np.linspace(0.0, 1.0, 20001)
+    return float(xi[np.argmax(naca_half_thickness(xi, p.body.naca_thickness_fraction))] * p.body.length_mm)
+
+
+# ----------------------------------------------------------------------------------------------- joints
+def joint_stations_mm(p: Params) -> tuple[float, ...]:
+    return tuple(f * p.body.length_mm for f in p.joints.stations_fraction)
+
+
+def hull_end_mm(p: Params) -> float:
+    return p.body.hull_end_fraction * p.body.length_mm
+
+
+def joint_max_angles_rad(p: Params) -> tuple[float, ...]:
+    """Largest relative joint angle the wave demands at the design point (eq. 43-47, relative form)."""
+    wave = wave_from_params(p.swimming, p.body.length_mm / 1000.0)
+    s = np.asarray(joint_stations_mm(p)) / 1000.0
+    return tuple(float(v) for v in max_relative_joint_angles_rad(wave, s, p.body.length_mm / 1000.0))
+
+
+def joint_stop_angles_rad(p: Params) -> tuple[float, ...]:
+    """Hard-stop angle of each joint: the wave's maximum plus the margin."""
+    m = math.radians(p.joints.stop_margin_deg)
+    return tuple(a + m for a in joint_max_angles_rad(p))
+
+
+def joint_gaps_mm(p: Params) -> tuple[float, ...]:
+    """Axial gap between the hull segments at each joint, wide enough for the stop angle.
+
+    The child's shell corner at half-width w swings forward by about w sin(theta) when the joint turns.
+    """
+    out = []
+    for s, th in zip(joint_stations_mm(p), joint_stop_angles_rad(p)):
+        w = float(naca_half_width_mm(p, s))
+        out.append(w * math.sin(th) + 2.0 * p.print.clearance_assembly_mm + p.hull.wall_thickness_mm)
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Segment:
+    """A hull segment: stations [s_start, s_end] in mm, rigid with kinematic link ``link``."""
+    name: str
+    s_start_mm: float
+    s_end_mm: float
+    link: int
+
+
+def hull_segments(p: Params) -> tuple[Segment, ...]:
+    """Head (electronics and motor bay), body segments between joints, and the peduncle."""
+    js, gaps = joint_stations_mm(p), joint_gaps_mm(p)
+    n = len(js)
+    segs = [Segment("hull_head", 0.0, js[0] - gaps[0] / 2, 0)]
+    for j in range(n):
+        start = js[j] + gaps[j] / 2
+        end = js[j + 1] - gaps[j + 1] / 2 if j + 1 < n else hull_end_mm(p)
+        name = "hull_peduncle" if j + 1 == n else f"hull_body_{j + 1}"
+        segs.append(Segment(name, start, end, j + 1))
+    return tuple(segs)
+
+
+# ----------------------------------------------------------------------------------------------- spools
+@dataclass(frozen=True)
+class SpoolDims:
+    """Axial stack of a spool above its motor face (mm, measured up from the motor's mounting face)."""
+    plate_mm: float          # motor-mount plate the motor face screws to
+    hub_bottom_mm: float     # bottom of the spool hub
+    hub_length_mm: float
+    flange_mm: float         # flange thickness
+    groove_length_mm: float  # axial length of the helical groove
+    groove_turns: float
+    drum_radius_mm: float    # groove root radius + depth = drum surface radius
+    flange_radius_mm: float
+    cable_plane_mm: float    # groove centre height above the motor face
+    top_mm: float            # spool top above the motor face
+    end_offset_mm: float     # the two cable ends leave at cable_plane +/- end_offset
+
+
+def spool_travel_turns(p: Params, joint_index: int) -> float:
+    """Spool turns from centre to the joint's stop angle: theta_stop * moment arm / spool radius / 2 pi."""
+    th = joint_stop_angles_rad(p)[joint_index]
+    return th * p.joints.tendon_moment_arm_mm / (p.spool.drum_diameter_mm / 2) / (2 * math.pi)
+
+
+def spool_dims(p: Params) -> SpoolDims:
+    """One spool design for every motor, sized for the joint with the largest travel."""
+    s = p.spool
+    travel = max(spool_travel_turns(p, j) for j in range(p.joints.count))
+    turns = s.wraps + 2 * travel + s.groove_margin_turns
+    groove = turns * s.groove_pitch_mm + p.cable.diameter_mm
+    plate = plate_thickness_mm(p)
+    hub_bottom = plate + max(p.motor.pilot_height_mm - plate, 0.0) + 0.5
+    cable_plane = hub_bottom + s.hub_length_mm + s.flange_thickness_mm + groove / 2
+    top = hub_bottom + s.hub_length_mm + 2 * s.flange_thickness_mm + groove
+    r = s.drum_diameter_mm / 2
+    return SpoolDims(plate, hub_bottom, s.hub_length_mm, s.flange_thickness_mm, groove, turns, r,
+                     r + s.flange_height_mm, cable_plane, top, s.wraps * s.groove_pitch_mm / 2)
+
+
+def plate_thickness_mm(p: Params) -> float:
+    """Motor-mount plate thickness: 8 perimeters' worth, at least 3 mm."""
+    return max(3.0, 8 * p.print.line_width_mm)
+
+
+# ----------------------------------------------------------------------------------------------- motors
+@dataclass(frozen=True)
+class MotorPlacement:
+    joint: int               # index (0-based) of the joint this motor drives
+    s_mm: float              # station of the shaft axis
+    z_face_mm: float         # height of the motor's mounting face (body below, spool above)
+    z_cable_mm: float        # cable plane of its spool (groove centre)
+    lane_y_mm: float         # |y| of the lane its cables run in past the spools behind (0: no lane)
+
+    @property
+    def x_mm(self) -> float:
+        return -self.s_mm
+
+
+MOTOR_PITCH_GAP_MM = 3.0     # clearance between neighbouring motor frames
+BAY_TO_JOINT_MM = 45.0       # from the rear motor's frame to joint 1's axis: room for the bay guides' bends
+
+
+def tendon_level_pitch_mm(p: Params) -> float:
+    """Vertical pitch of the cable levels where cables cross the hinge lines (one PTFE tube + a web)."""
+    return p.guides.ptfe_tube_od_mm + 3 * p.print.line_width_mm
+
+
+def tendon_level_mm(p: Params, joint: int, side: int) -> float:
+    """Height of joint ``joint``'s (0-based) ``side`` cable in the tail: on the hinge lines it crosses and on
+    its tendon sector. Pairs are stacked upward from the axis, the last joint lowest (the tail is smallest
+    there) and joint 1 highest (nearest the spool planes); left cable above right by one level pitch.
+    """
+    n = p.joints.count
+    pitch = tendon_level_pitch_mm(p)
+    return (n - 1 - joint) * 2 * pitch + side * pitch / 2
+
+
+def lane_pitch_mm(p: Params) -> float:
+    return p.guides.ptfe_tube_od_mm + 2 * p.print.line_width_mm
+
+
+def motor_placements(p: Params) -> tuple[MotorPlacement, ...]:
+    """Motors in a row ahead of joint 1, shafts up, the stack (body + spool) centred on the body axis.
+
+    The rear-most motor drives joint 1; the cables of each motor ahead of it run aft in lanes beside the
+    spools behind (|y| beyond their flanges), one lane further out per motor.
+    """
+    n = p.joints.count
+    F = p.motor.frame_size_mm
+    pitch = F + MOTOR_PITCH_GAP_MM
+    s_rear = joint_stations_mm(p)[0] - BAY_TO_JOINT_MM - F / 2
+    d = spool_dims(p)
+    z_face = (p.motor.body_length_mm - d.top_mm) / 2
+    out = []
+    for j in range(n):  # j = 0 is the rear-most motor
+        lane = 0.0 if j == 0 else (d.flange_radius_mm + p.print.clearance_assembly_mm + p.guides.ptfe_tube_od_mm / 2
+                                   + (j - 1) * lane_pitch_mm(p))
+        out.append(MotorPlacement(j, s_rear - j * pitch, z_face, z_face + d.cable_plane_mm, lane))
+    return tuple(out)
+
+
+def bay_end_station_mm(p: Params) -> float:
+    """Station of the bay guides: just behind the rear motor's frame."""
+    return motor_placements(p)[0].s_mm + p.motor.frame_size_mm / 2 + p.guides.min_bend_radius_mm / 2
+
+
+# ----------------------------------------------------------------------------------------------- cable routes
+@dataclass(frozen=True)
+class Bend:
+    """A change of direction of a cable route, held by a PTFE guide (or a PTFE-lined hole) on link ``link``."""
+    point_mm: tuple[float, float, float]
+    angle_rad: float
+    link: int
+    kind: str                # "exit" (behind a spool), "bay" (end of the motor bay), "hinge" (at a joint crossing)
+
+
+@dataclass(frozen=True)
+class CableRoute:
+    """One side of a pull-pull cable, as a polyline at rest from spool to tendon sector (body frame, mm)."""
+    joint: int
+    side: int                                  # +1: left (+y) cable, -1: right
+    points_mm: tuple[tuple[float, float, float], ...]
+    bends: tuple[Bend, ...]
+
+    @property
+    def length_mm(self) -> float:
+        pts = np.asarray(self.points_mm)
+        return float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1)))
+
+    @property
+    def total_bend_rad(self) -> float:
+        return sum(b.angle_rad for b in self.bends)
+
+
+def _tangent_point(px: float, py: float, cx: float, cy: float, r: float, side: int) -> tuple[float, float]:
+    """Point where a line from P touches the circle (C, r), on the side ``sign(y - cy) == side``."""
+    d = math.hypot(px - cx, py - cy)
+    if d <= r:
+        raise ValueError(f"point ({px:.1f}, {py:.1f}) lies inside the circle of radius {r:.1f}")
+    beta = math.atan2(py - cy, px - cx)
+    gamma = math.acos(r / d)
+    for ang in (beta + gamma, beta - gamma):
+        qx, qy = cx + r * math.cos(ang), cy + r * math.sin(ang)
+        if (qy - cy) * side > 0:
+            return qx, qy
+    raise ValueError("no tangent on that side")
+
+
+def _turn_angle(a, b, c) -> float:
+    u = np.subtract(b, a)
+    v = np.subtract(c, b)
+    cosang = float(np.dot(u, v) / (np.linalg.norm(u) * np.linalg.norm(v)))
+    return math.acos(max(-1.0, min(1.0, cosang)))
+
+
+def cable_routes(p: Params) -> tuple[CableRoute, ...]:
+    """Both cables of every joint, at rest.
+
+    spool tangent -> (motors ahead of the rear one) exit guide into its lane -> bay guide behind the motor
+    row -> the hinge lines of the joints ahead, on the axis (y = 0, z = +/- h_j) -> tangent to the tendon
+    sector of its joint (radius = moment arm, z = +/- h_j). Bends are the route's turning points.
+    """
+    js = joint_stations_mm(p)
+    m = p.joints.tendon_moment_arm_mm
+    d = spool_dims(p)
+    x_bay = -bay_end_station_mm(p)
+    routes = []
+    for mp in motor_placements(p):
+        j = mp.joint
+        for side in (+1, -1):
+            z_s = mp.z_cable_mm + side * d.end_offset_mm
+            z_t = tendon_level_mm(p, j, side)
+            pts: list[tuple[float, float, float]] = []
+            kinds: list[tuple[str, int]] = []
+            if j == 0:
+                y_lane = side * d.drum_radius_mm
+                pts.append((mp.x_mm, y_lane, z_s))  # leaves the drum straight aft
+            else:
+                y_lane = side * mp.lane_y_mm
+                x_in = mp.x_mm - d.flange_radius_mm - p.guides.min_bend_radius_mm / 2
+                sx, sy = _tangent_point(x_in, y_lane, mp.x_mm, 0.0, d.drum_radius_mm, side)
+                pts += [(sx, sy, z_s), (x_in, y_lane, z_s)]
+                kinds.append(("exit", 0))
+            pts.append((x_bay, y_lane, z_s))
+            kinds.append(("bay", 0))
+            for k in range(j):  # hinge-line crossings of the joints ahead
+                pts.append((-js[k], 0.0, z_t))
+                kinds.append(("hinge", k + 1))
+            last = pts[-1]
+            tx, ty = _tangent_point(last[0], last[1], -js[j], 0.0, m, side)
+            pts.append((tx, ty, z_t))
+            bends = []
+            for k in range(1, len(pts) - 1):
+                ang = _turn_angle(pts[k - 1], pts[k], pts[k + 1])
+                kind, link = kinds[k - 1]
+                bends.append(Bend(tuple(float(v) for v in pts[k]), ang, link, kind))
+            routes.append(CableRoute(j, side, tuple(tuple(float(v) for v in q) for q in pts), tuple(bends)))
+    return tuple(routes)
+
+
+# ----------------------------------------------------------------------------------------------- feasibility
+def layout_problems(p: Params) -> list[Problem]:
+    """Geometric impossibilities of a schema-valid design: parts that cannot fit in the hull."""
+    out: list[Problem] = []
+    F = p.motor.frame_size_mm
+    c = p.print.clearance_assembly_mm
+    motors = motor_placements(p)
+    d = spool_dims(p)
+    # every motor (frame below the face, spool flange above it) inside the hull, at its four corners
+    for mp in motors:
+        z_lo = mp.z_face_mm - p.motor.body_length_mm
+        z_hi = mp.z_face_mm + d.top_mm
+        for s in (mp.s_mm - F / 2, mp.s_mm + F / 2):
+            for z in (z_lo, z_hi):
+                room = interior_half_width_at_height_mm(p, s, z)
+                need = F / 2 + c if z == z_lo else max(d.flange_radius_mm, F / 2) + c
+                if room < need:
+                    out.append(Problem("joints.stations_fraction" if s > 0 else "motor.frame_size_mm",
+                                       list(p.joints.stations_fraction),
+                                       f"motor for joint {mp.joint + 1} does not fit in the hull: at station "
+                                       f"{s:.0f} mm, height {z:.0f} mm the hull has {room:.1f} mm half-width, "
+                                       f"needs {need:.1f} mm (move joint 1 aft, or use a smaller motor.frame_size_mm, "
+                                       f"or a larger body.height_to_width)"))
+                    break
+            else:
+                continue
+            break
+    # tendon sector (radius m) plus cable and wall inside the hull at each joint, at its cable plane
+    m = p.joints.tendon_moment_arm_mm
+    for mp in motors:
+        s = joint_stations_mm(p)[mp.joint]
+        room = min(interior_half_width_at_height_mm(p, s, tendon_level_mm(p, mp.joint, sd) + sd * p.cable.diameter_mm)
+                   for sd in (1, -1))
+        need = m + p.cable.diameter_mm + c
+        if room < need:
+            out.append(Problem("joints.tendon_moment_arm_mm", m,
+                               f"the tendon sector of joint {mp.joint + 1} does not fit in the hull at station "
+                               f"{s:.0f} mm: half-width {room:.1f} mm, needs {need:.1f} mm"))
+    # the head segment must hold the motor row
+    segs = hull_segments(p)
+    if motors[-1].s_mm - F / 2 < p.body.nose_cap_fraction * p.body.length_mm:
+        out.append(Problem("joints.stations_fraction", list(p.joints.stations_fraction),
+                           "the motor row reaches into the nose cap: move joint 1 aft"))
+    for seg in segs:
+        if seg.s_end_mm - seg.s_start_mm < 2 * p.hull.bulkhead_thickness_mm + 2 * p.joints.pin_diameter_mm:
+            out.append(Problem("joints.stations_fraction", list(p.joints.stations_fraction),
+                               f"{seg.name} is only {seg.s_end_mm - seg.s_start_mm:.1f} mm long after the joint "
+                               f"gaps: joints too close together for their range of motion"))
+    # stop angle must stay below 90 deg (the hull shells would overlap)
+    for j, th in enumerate(joint_stop_angles_rad(p)):
+        if th >= math.radians(80):
+            out.append(Problem("swimming.tail_amplitude_m", p.swimming.tail_amplitude_m,
+                               f"joint {j + 1} would need {math.degrees(th):.0f} deg of travel (>= 80 deg)"))
+    return out

@@ -1,0 +1,258 @@
+"""The parameter schema: every free parameter of a design, with its unit, range, default and source.
+
+The default of every field is the paper's SwiftFin (``../shared/paper/swiftfin_paper.txt``) where the paper
+gives a value, and a documented engineering default where it does not. ``swiftfin.toml`` at the repository
+root is generated from this table (``swiftfin params --dump``) and a test keeps the two identical.
+
+Names carry units (house style rule 3): ``_mm``, ``_deg``, ``_n``, ``_nm``, ``_kg``, ``_hz`` ...;
+a name without a unit suffix is dimensionless.
+
+Derived values (the joints' maximum angle, the groove length, the motor positions ...) are functions in
+the layers that use them, never fields here (house style rule 2).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+
+def p(default: Any, lo: float | None = None, hi: float | None = None, doc: str = "", source: str = "",
+      choices: tuple | None = None, length: tuple[int, int] | None = None) -> Any:
+    """A schema field: default, inclusive range [lo, hi], a one-line doc and its source.
+
+    ``choices`` restricts a string; ``length`` bounds the length of a list field.
+    """
+    meta = {"lo": lo, "hi": hi, "doc": doc, "source": source, "choices": choices, "length": length}
+    return field(default=default, metadata=meta)
+
+
+PAPER = "SwiftFin paper"
+
+
+@dataclass(frozen=True)
+class Body:
+    length_mm: float = p(520.0, 200.0, 2000.0,
+                         "Fork length: nose tip to the fork of the caudal fin (the NACA chord)",
+                         f"{PAPER} Table 2 (52 cm); read as fork length, the usual fish measure")
+    naca_thickness_fraction: float = p(0.15, 0.06, 0.30,
+                                       "Maximum hull width / length of the NACA 00xx profile (at 30 % of length)",
+                                       f"{PAPER} Table 2 (NACA 0015)")
+    height_to_width: float = p(1.5, 0.6, 2.5,
+                               "Height / width of the elliptical cross-sections",
+                               "Not in the paper; yellowfin depth/width ~1.4-1.6. 1.5 leaves room for 4 NEMA 17 "
+                               "stacks (motor + spool, 61 mm tall)")
+    nose_cap_fraction: float = p(0.03, 0.01, 0.10,
+                                 "Length of the rounded (ellipsoidal) nose cap / body length",
+                                 "Not in the paper; closes the NACA leading edge smoothly")
+    hull_end_fraction: float = p(0.915, 0.80, 0.98,
+                                 "Station where the hull ends and the caudal fin root begins / body length",
+                                 "Not in the paper; tuna peduncle ends at about 0.9 fork length")
+
+
+@dataclass(frozen=True)
+class Hull:
+    wall_thickness_mm: float = p(2.0, 0.8, 6.0, "Hull shell wall thickness", "Engineering default (>= 2 line widths)")
+    bulkhead_thickness_mm: float = p(3.0, 1.2, 8.0, "Thickness of the bulkheads closing each segment",
+                                     "Engineering default")
+    loft_stations: int = p(9, 4, 40, "Cross-sections per hull segment used by the loft",
+                           "Engineering default (hull half-width error < 0.05 mm at 9)")
+    split_halves: bool = p(True, doc="Split each hull segment into upper and lower halves at z = 0 "
+                                     "(flat print face, assembly access)", source="Engineering default")
+    screw_diameter_mm: float = p(2.0, 1.6, 4.0, "Screws joining hull halves and bulkheads (M2)", "Engineering default")
+
+
+@dataclass(frozen=True)
+class Joints:
+    count: int = p(4, 1, 8, "Number of tail joints (one stepper each)", f"{PAPER} Table 2 (4 DOF)")
+    stations_fraction: tuple = p((0.545, 0.62, 0.695, 0.765), 0.05, 0.95,
+                                 "Joint axis stations / body length, nose to tail, strictly increasing",
+                                 "Not in the paper; the motor row ahead of joint 1 and the 15 mm tendon sector "
+                                 "inside the NACA 0015 tail bound them to about 0.52-0.76",
+                                 length=(1, 8))
+    tendon_moment_arm_mm: float = p(15.0, 4.0, 60.0, "Radius of the tendon sector on each link (d_mount)",
+                                    f"{PAPER} §3.4 (15 mm)")
+    pin_diameter_mm: float = p(3.0, 1.5, 8.0, "Hinge pin diameter (steel dowel)", "Engineering default")
+    stop_margin_deg: float = p(5.0, 0.0, 30.0,
+                               "Hard stop beyond the largest joint angle the wave model demands",
+                               "Engineering default")
+    link_thickness_mm: float = p(6.0, 3.0, 20.0, "Height of the link plate (along the hinge axis)",
+                                 "Engineering default")
+
+
+@dataclass(frozen=True)
+class Motor:
+    frame_size_mm: float = p(42.3, 20.0, 60.0, "Square frame size (NEMA 17 = 42.3 mm)", "NEMA ICS 16")
+    body_length_mm: float = p(40.0, 15.0, 80.0, "Body length without shaft", "17HS4401 datasheet (40 mm)")
+    shaft_diameter_mm: float = p(5.0, 2.0, 8.0, "Shaft diameter", "NEMA 17 (5 mm)")
+    shaft_flat_depth_mm: float = p(0.5, 0.0, 1.5, "Depth of the D-flat on the shaft", "17HS4401 datasheet (0.5 mm)")
+    shaft_length_mm: float = p(24.0, 8.0, 40.0, "Shaft length beyond the mounting face", "17HS4401 datasheet (24 mm)")
+    pilot_diameter_mm: float = p(22.0, 10.0, 40.0, "Centring boss diameter", "NEMA 17 (22 mm)")
+    pilot_height_mm: float = p(2.0, 0.0, 5.0, "Centring boss height", "NEMA 17 (2 mm)")
+    hole_spacing_mm: float = p(31.0, 10.0, 50.0, "Mounting hole square spacing", "NEMA 17 (31 mm)")
+    mount_screw_diameter_mm: float = p(3.0, 2.0, 5.0, "Mounting screws (M3)", "NEMA 17")
+    mass_kg: float = p(0.28, 0.05, 1.0, "Motor mass", "17HS4401 datasheet (280 g)")
+    rotor_inertia_kg_m2: float = p(5.4e-6, 1e-7, 1e-4, "Rotor inertia", "17HS4401 datasheet (54 g cm^2)")
+    holding_torque_nm: float = p(0.42, 0.01, 5.0, "Holding torque", f"{PAPER} Table 2 (0.42 N m)")
+    full_step_deg: float = p(1.8, 0.9, 15.0, "Full step angle", f"{PAPER} §2.5.2 (1.8 deg)")
+    microsteps: int = p(16, 1, 256, "Microstepping factor", f"{PAPER} Table 2 (A4988, 1/16)",
+                        choices=(1, 2, 4, 8, 16, 32, 64, 128, 256))
+    pullout_curve_steps_per_s: tuple = p((0.0, 500.0, 1000.0, 2000.0, 4000.0, 8000.0), 0.0, 1e6,
+                                         "Pull-out curve: full-step rates, increasing", 
+                                         "Typical 17HS4401 at 12 V, 1.5 A; replace with your motor and supply",
+                                         length=(2, 64))
+    pullout_curve_torque_nm: tuple = p((0.40, 0.38, 0.33, 0.24, 0.13, 0.05), 0.0, 10.0,
+                                       "Pull-out torque at each rate of the curve",
+                                       "Typical 17HS4401 at 12 V, 1.5 A; replace with your motor and supply",
+                                       length=(2, 64))
+
+
+@dataclass(frozen=True)
+class Spool:
+    drum_diameter_mm: float = p(20.0, 4.0, 100.0, "Capstan drum diameter at the groove root",
+                                f"{PAPER} Table 2 (20 mm)")
+    wraps: float = p(2.0, 0.5, 10.0, "Cable wraps on the drum (wrap angle / 2 pi)", f"{PAPER} Table 2 (4 pi rad)")
+    groove_margin_turns: float = p(0.5, 0.0, 5.0, "Extra groove turns beyond wraps and travel",
+                                   "Engineering default")
+    groove_pitch_mm: float = p(1.6, 0.5, 10.0, "Axial pitch of the helical groove", "Engineering default (1.6 x cable)")
+    groove_depth_mm: float = p(0.5, 0.1, 3.0, "Radial depth of the groove", "Engineering default (half the cable)")
+    flange_height_mm: float = p(3.0, 0.5, 20.0, "Flange height above the drum surface", "Engineering default")
+    flange_thickness_mm: float = p(1.6, 0.8, 6.0, "Flange thickness", "Engineering default (4 line widths)")
+    hub_length_mm: float = p(8.0, 3.0, 30.0, "Hub length below the drum (carries the set screw)",
+                             "Engineering default")
+    set_screw_diameter_mm: float = p(3.0, 1.6, 5.0, "Set screw (M3, on the shaft flat)", "Engineering default")
+    mu_cable_drum: float = p(0.35, 0.02, 1.0, "Cable-on-drum friction coefficient", f"{PAPER} §2.3.1 (nylon on PLA 0.35)")
+    mu_dynamic: float = p(0.15, 0.01, 1.0, "Dynamic friction coefficient in eq. 26", f"{PAPER} §2.3.4 (0.15)")
+
+
+@dataclass(frozen=True)
+class Cable:
+    material: str = p("braided nylon", doc="Cable material", source=f"{PAPER} Table 2",
+                      choices=("braided nylon", "dyneema", "vectran", "steel"))
+    diameter_mm: float = p(1.0, 0.1, 5.0, "Cable diameter", f"{PAPER} Table 2 (1.0 mm)")
+    breaking_strength_n: float = p(300.0, 5.0, 20000.0, "Breaking strength",
+                                   "Typical 1.0 mm braided nylon cord (25-40 kgf); measure yours")
+    pretension_n: float = p(45.0, 0.0, 20000.0, "Static pretension of each side",
+                            f"{PAPER} §7.2 (10-20 % of breaking strength); 15 % chosen")
+    youngs_modulus_gpa: float = p(2.0, 0.05, 250.0, "Effective Young's modulus of the cable (on its full section)",
+                                  "Braided nylon 1-3 GPa effective (nylon 6.6 fibre 2-4 GPa)")
+    bending_stiffness_n_m2: float = p(1.0e-5, 0.0, 1.0, "Bending stiffness EI (eq. 23)",
+                                      "About 1/10 of a solid 1 mm nylon rod (braid)")
+    linear_density_g_m: float = p(0.7, 0.01, 100.0, "Mass per metre", "Typical 1 mm braided nylon")
+    eta_hysteresis: float = p(0.98, 0.5, 1.0, "Internal hysteresis efficiency (eq. 28)", f"{PAPER} §2.3.5 (0.98)")
+
+
+@dataclass(frozen=True)
+class Guides:
+    ptfe_tube_id_mm: float = p(2.0, 0.5, 6.0, "PTFE tube inner diameter", "Common 2 x 4 mm PTFE tube")
+    ptfe_tube_od_mm: float = p(4.0, 1.0, 10.0, "PTFE tube outer diameter", "Common 2 x 4 mm PTFE tube")
+    min_bend_radius_mm: float = p(20.0, 2.0, 100.0, "Minimum bend radius of the PTFE tube",
+                                  "2 x 4 mm PTFE tube (20-25 mm)")
+    mu_ptfe: float = p(0.05, 0.01, 0.5, "Cable-on-PTFE friction coefficient", f"{PAPER} §2.3.3 (0.05)")
+    screw_diameter_mm: float = p(2.0, 1.6, 4.0, "Guide mounting screws (M2)", "Engineering default")
+
+
+@dataclass(frozen=True)
+class CaudalFin:
+    span_mm: float = p(160.0, 30.0, 800.0, "Tip-to-tip span of the lunate fin", "Not in the paper; ~0.3 L for tuna")
+    aspect_ratio: float = p(6.0, 1.5, 12.0, "span^2 / planform area", "Tuna caudal fins 4.5-7.5 (Magnuson 1978)")
+    sweep_deg: float = p(35.0, 0.0, 60.0, "Leading-edge sweep", "Not in the paper; tuna 30-40 deg")
+    thickness_fraction: float = p(0.12, 0.04, 0.25, "Section thickness / chord (NACA 00xx)", "Engineering default")
+    min_thickness_mm: float = p(1.2, 0.4, 5.0, "Thinnest printable section (trailing edge and tips)",
+                                "Engineering default (>= 2 line widths)")
+    mount_length_mm: float = p(15.0, 5.0, 60.0, "Length of the root tang that slots into the peduncle",
+                               "Engineering default")
+
+
+@dataclass(frozen=True)
+class Swimming:
+    tail_beat_frequency_hz: float = p(3.0, 0.1, 20.0, "Design (maximum) tail-beat frequency", f"{PAPER} Table 2 (3 Hz)")
+    tail_amplitude_m: float = p(0.10, 0.005, 1.0, "Tail-tip amplitude A_max = A(L)", f"{PAPER} §3.1 (0.10 m)")
+    head_amplitude_m: float = p(0.0, 0.0, 0.2, "Amplitude at the nose c0 = A(0)", f"{PAPER} §3.1 (A(0) ~ 0)")
+    envelope_linear_coefficient: float = p(0.0, -1.0, 1.0, "c1 of A(x) = c0 + c1 x + c2 x^2 [m/m]",
+                                           f"{PAPER} eq. 45 (0)")
+    wavelength_body_lengths: float = p(1.25, 0.3, 5.0, "Body wavelength / body length", f"{PAPER} §3.2 (1.25)")
+    speed_m_s: float = p(1.97, 0.0, 20.0, "Forward speed at the design point (measured)", f"{PAPER} Table 2 (1.97 m/s)")
+
+
+@dataclass(frozen=True)
+class Environment:
+    water_density_kg_m3: float = p(1000.0, 900.0, 1100.0, "Water density", "Fresh water at 20 C (998); 1000 used")
+    water_viscosity_pa_s: float = p(1.0e-3, 1e-4, 1e-2, "Dynamic viscosity", "Water at 20 C")
+    gravity_m_s2: float = p(9.81, 0.0, 20.0, "Gravity", "Standard")
+    buoyancy_band_fraction: float = p(0.05, 0.0, 0.5,
+                                      "Allowed |buoyancy - weight| / weight for near-neutral trim",
+                                      "Engineering default")
+
+
+@dataclass(frozen=True)
+class Print:
+    bed_x_mm: float = p(250.0, 50.0, 2000.0, "Printer bed X", "Prusa MK4 (250 x 210 x 220)")
+    bed_y_mm: float = p(210.0, 50.0, 2000.0, "Printer bed Y", "Prusa MK4")
+    bed_z_mm: float = p(220.0, 50.0, 2000.0, "Printer build height", "Prusa MK4")
+    nozzle_diameter_mm: float = p(0.4, 0.1, 2.0, "Nozzle diameter", "Prusa default")
+    line_width_mm: float = p(0.45, 0.1, 2.0, "Extrusion line width", "PrusaSlicer default for 0.4 mm")
+    layer_height_mm: float = p(0.2, 0.05, 0.6, "Layer height", "PrusaSlicer 0.20 mm QUALITY")
+    perimeters: int = p(3, 1, 20, "Perimeter loops", "Engineering default")
+    top_layers: int = p(5, 0, 50, "Solid top layers", "PrusaSlicer default")
+    bottom_layers: int = p(4, 0, 50, "Solid bottom layers", "PrusaSlicer default")
+    infill_fraction: float = p(0.20, 0.0, 1.0, "Sparse infill density", "Engineering default")
+    infill_pattern: str = p("gyroid", doc="Sparse infill pattern", source="PrusaSlicer",
+                            choices=("gyroid", "grid", "rectilinear", "cubic", "honeycomb", "line"))
+    filament_density_kg_m3: float = p(1240.0, 800.0, 2500.0, "Filament density", "PLA (1.24 g/cm^3)")
+    filament_diameter_mm: float = p(1.75, 1.0, 3.0, "Filament diameter", "Standard")
+    clearance_sliding_mm: float = p(0.3, 0.0, 2.0, "Radial clearance for sliding fits (pins, shafts)",
+                                    "FDM practice (0.2-0.4 mm)")
+    clearance_assembly_mm: float = p(0.5, 0.0, 10.0, "Minimum gap between parts in the assembly",
+                                     "Engineering default")
+
+
+@dataclass(frozen=True)
+class Export:
+    mesh_tolerance_mm: float = p(0.05, 0.001, 1.0, "Linear deflection of the tessellation", "Engineering default")
+    mesh_angular_tolerance_deg: float = p(10.0, 1.0, 45.0, "Angular deflection of the tessellation",
+                                          "Engineering default")
+    visual_triangle_budget: int = p(20000, 500, 1000000, "Triangles per link in the simulator visual meshes",
+                                    "Engineering default")
+
+
+@dataclass(frozen=True)
+class Component:
+    """A bought part: catalogue mass and simple box geometry at a station along the body."""
+    name: str = p("", doc="Component name")
+    mass_kg: float = p(0.0, 0.0, 10.0, "Catalogue mass")
+    size_mm: tuple = p((10.0, 10.0, 10.0), 0.1, 1000.0, "Box size x, y, z", length=(3, 3))
+    station_fraction: float = p(0.1, 0.0, 1.0, "Station of the box centre / body length")
+    z_mm: float = p(0.0, -500.0, 500.0, "Height of the box centre above the body axis")
+    source: str = p("", doc="Where the mass comes from")
+
+
+DEFAULT_COMPONENTS = (
+    Component(name="battery", mass_kg=0.046, size_mm=(48.5, 26.5, 17.5), station_fraction=0.09, z_mm=-12.0,
+              source=f"{PAPER} Table 2 (9 V, 500 mAh); PP3 Li-ion cell 46 g"),
+    Component(name="electronics", mass_kg=0.030, size_mm=(45.0, 30.0, 15.0), station_fraction=0.09, z_mm=14.0,
+              source="Arduino Nano (7 g) + 4 x A4988 carriers (4 x 3 g) + MPU6050 + wiring"),
+    Component(name="fasteners", mass_kg=0.040, size_mm=(60.0, 20.0, 10.0), station_fraction=0.35, z_mm=-25.0,
+              source="M2/M3 screws, nuts and 3 mm dowels, estimated from the part count"),
+)
+
+
+@dataclass(frozen=True)
+class Params:
+    body: Body = field(default_factory=Body)
+    hull: Hull = field(default_factory=Hull)
+    joints: Joints = field(default_factory=Joints)
+    motor: Motor = field(default_factory=Motor)
+    spool: Spool = field(default_factory=Spool)
+    cable: Cable = field(default_factory=Cable)
+    guides: Guides = field(default_factory=Guides)
+    caudal_fin: CaudalFin = field(default_factory=CaudalFin)
+    swimming: Swimming = field(default_factory=Swimming)
+    environment: Environment = field(default_factory=Environment)
+    print: Print = field(default_factory=Print)
+    export: Export = field(default_factory=Export)
+    components: tuple = field(default=DEFAULT_COMPONENTS)
+
+
+SECTIONS = {"body": Body, "hull": Hull, "joints": Joints, "motor": Motor, "spool": Spool, "cable": Cable,
+            "guides": Guides, "caudal_fin": CaudalFin, "swimming": Swimming, "environment": Environment,
+            "print": Print, "export": Export}

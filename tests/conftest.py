@@ -1,0 +1,50 @@
+"""Shared fixtures. Tests write only to tmp_path (house style rule 13)."""
+from __future__ import annotations
+
+import os
+import shutil
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SHARED = ROOT.parent / "shared"
+DEFAULT_DESIGN = ROOT / "swiftfin.toml"
+
+
+def require_tool(name: str, why: str) -> str:
+    """Path of an external tool, or skip with a clear reason (fail in CI, where it must be installed)."""
+    path = shutil.which(name)
+    if path is None:
+        msg = f"{name} not installed: {why} (apt-get install {name})"
+        if os.environ.get("SWIFTFIN_REQUIRE_TOOLS"):
+            pytest.fail(msg)
+        pytest.skip(msg)
+    return path
+
+
+def require_shared(*parts: str) -> Path:
+    """A path under ../shared, or skip where the folder is absent (a user's plain clone)."""
+    path = SHARED.joinpath(*parts)
+    if not path.exists():
+        msg = f"{path} not found: the shared reference data sit beside the checkout in CI"
+        if os.environ.get("SWIFTFIN_REQUIRE_TOOLS"):
+            pytest.fail(msg)
+        pytest.skip(msg)
+    return path
+
+
+@pytest.fixture(scope="session")
+def default_params():
+    from swiftfin.config import load_design
+    return load_design(DEFAULT_DESIGN)
+
+
+def pytest_addoption(parser):
+    parser.addoption("--update-golden", action="store_true", default=False,
+                     help="rewrite tests/golden/*.json from the current build (on purpose only)")
+
+
+@pytest.fixture(scope="session")
+def update_golden(request):
+    return request.config.getoption("--update-golden")
