@@ -90,3 +90,52 @@ def max_relative_joint_angles_rad(wave: Wave, stations_m, tail_end_m: float, n_s
     """Largest |relative joint angle| over one period for each joint [rad]."""
     t = np.linspace(0.0, 1.0 / wave.frequency_hz, n_samples, endpoint=False)
     return np.max(np.abs(relative_joint_angles_rad(wave, stations_m, tail_end_m, t)), axis=0)
+
+
+# ----------------------------------------------------------------------------------------------- eq. 48
+def motor_angle_rad(joint_angle_rad, moment_arm_m: float, spool_radius_m: float, gear_ratio: float = 1.0):
+    """Motor-shaft angle that sets a joint angle through a pull-pull cable [rad] (the kinematics of eq. 48).
+
+    The tendon sector of radius d_mount takes in d_mount theta of cable; the spool of radius r_spool pays it out
+    by turning d_mount theta / r_spool; a gear ratio G between motor and spool multiplies that.
+    """
+    return np.asarray(joint_angle_rad, dtype=float) * moment_arm_m / spool_radius_m * gear_ratio
+
+
+def motor_steps(joint_angle_rad, moment_arm_m: float, spool_radius_m: float, microsteps: int,
+                full_step_rad: float, gear_ratio: float = 1.0):
+    """Microstep count S = round(theta d_mount / r_spool G mu_s / alpha_step) (eq. 48), as integers.
+
+    The paper's form is kinematically right (1.5 motor radians per joint radian for SwiftFin). Its Table 2
+    'angular resolution 0.1125 deg' is the motor's; at the joint one microstep is
+    :func:`joint_resolution_rad` = 0.075 deg.
+    """
+    s = motor_angle_rad(joint_angle_rad, moment_arm_m, spool_radius_m, gear_ratio) * microsteps / full_step_rad
+    return np.rint(s).astype(np.int64)
+
+
+def joint_resolution_rad(full_step_rad: float, microsteps: int, moment_arm_m: float, spool_radius_m: float,
+                         gear_ratio: float = 1.0) -> float:
+    """Joint angle of one microstep [rad]: alpha_step / mu_s x r_spool / (d_mount G) (inverse of eq. 48)."""
+    return full_step_rad / microsteps * spool_radius_m / (moment_arm_m * gear_ratio)
+
+
+def full_step_rate(joint_rate_rad_s, moment_arm_m: float, spool_radius_m: float, full_step_rad: float,
+                   gear_ratio: float = 1.0):
+    """Full steps per second the motor must make for a joint angular speed [steps/s] (time derivative of eq. 48)."""
+    return np.abs(motor_angle_rad(joint_rate_rad_s, moment_arm_m, spool_radius_m, gear_ratio)) / full_step_rad
+
+
+def periodic_derivative(samples, period_s: float):
+    """Time derivative of one period of a periodic signal sampled uniformly (axis 0), by FFT (exact for
+    band-limited signals)."""
+    y = np.asarray(samples, dtype=float)
+    n = y.shape[0]
+    w = 2.0 * np.pi * np.fft.fftfreq(n, d=period_s / n)
+    shape = (n,) + (1,) * (y.ndim - 1)
+    dy = np.fft.ifft(1j * w.reshape(shape) * np.fft.fft(y, axis=0), axis=0).real
+    if n % 2 == 0:  # the Nyquist bin of a real signal has no defined derivative: drop it
+        spec = np.fft.fft(y, axis=0)
+        spec[n // 2] = 0.0
+        dy = np.fft.ifft(1j * w.reshape(shape) * spec, axis=0).real
+    return dy

@@ -227,6 +227,11 @@ def cross_field_problems(p: Params) -> list[Problem]:
     if fin.min_thickness_mm < 2 * pr.line_width_mm * 0.99:
         out.append(Problem("caudal_fin.min_thickness_mm", fin.min_thickness_mm,
                            f"thinner than two extrusion lines ({2 * pr.line_width_mm:g} mm) cannot print"))
+    r = p.rules
+    for lo_key, hi_key in (("strouhal_min", "strouhal_max"), ("pretension_min_fraction", "pretension_max_fraction")):
+        lo, hi = getattr(r, lo_key), getattr(r, hi_key)
+        if lo >= hi:
+            out.append(Problem(f"rules.{lo_key}", lo, f"must be below rules.{hi_key} ({hi:g})"))
     return out
 
 

@@ -185,6 +185,71 @@ class Environment:
 
 
 @dataclass(frozen=True)
+class Hydro:
+    """Coefficients of the swimming load model (physics/loads.py). Each is uncertain: see its sensitivity."""
+    body_added_mass_coefficient: float = p(1.0, 0.0, 2.0,
+                                           "Multiplier on the strip added mass rho pi (h/2)^2 of a body section "
+                                           "of height h in lateral motion",
+                                           "Lighthill 1960 slender-body theory; Newman 1977 Marine Hydrodynamics "
+                                           "§4.13 (ellipse: rho pi b^2, b the half-axis across the motion): 1.0")
+    body_drag_coefficient: float = p(1.2, 0.1, 3.0,
+                                     "Cross-flow drag coefficient of a body section (on its height h)",
+                                     "Taylor 1952 resistive theory; Hoerner 1965 Fluid-Dynamic Drag ch. 3 "
+                                     "(circular cylinder, subcritical Re: 1.2)")
+    fin_added_mass_coefficient: float = p(1.0, 0.0, 2.0,
+                                          "Multiplier on the strip added mass rho pi (b/2)^2 per unit chord of "
+                                          "the caudal fin of span b",
+                                          "Strip theory (1.0); finite-span plates of AR 6 are ~0.85 "
+                                          "(Brennen 1982, NCEL CR 82.016)")
+    fin_lift_slope_factor: float = p(1.0, 0.0, 2.0,
+                                     "Multiplier on the fin lift slope a = 2 pi AR / (AR + 2) [1/rad]",
+                                     "Helmbold/lifting-line slope for a finite wing (Anderson, Fundamentals of "
+                                     "Aerodynamics §5.3): 1.0")
+    fin_drag_coefficient_90: float = p(1.28, 0.5, 2.5,
+                                       "Normal-force coefficient of the fin broadside to the flow: adds "
+                                       "C_D90 sin^2(alpha) to the quasi-steady normal force",
+                                       "Hoerner 1965 ch. 3 (flat plate of finite aspect ratio 1.2-1.3)")
+    fin_normal_coefficient_max: float = p(2.0, 0.5, 5.0,
+                                          "Cap on the fin's quasi-steady normal-force coefficient (stall)",
+                                          "Dickinson, Lehmann & Sane 1999 (Science 284): delayed-stall C_N ~2.3 "
+                                          "at 40 deg; static flat plate ~1.2. 2.0 chosen")
+
+
+@dataclass(frozen=True)
+class Rules:
+    """Limits of the design rules (design_rules/). The paper's guidelines (§7.2) are the defaults where it has one."""
+    drum_to_cable_min: float = p(20.0, 1.0, 100.0, "Minimum drum diameter / cable diameter",
+                                 f"{PAPER} §7.2 (>= 20 x cable diameter)")
+    pretension_min_fraction: float = p(0.10, 0.0, 1.0, "Minimum pretension / breaking strength",
+                                       f"{PAPER} §7.2 (10-20 %)")
+    pretension_max_fraction: float = p(0.20, 0.0, 1.0, "Maximum pretension / breaking strength",
+                                       f"{PAPER} §7.2 (10-20 %)")
+    holding_torque_factor: float = p(2.0, 1.0, 10.0, "Holding torque / peak motor torque while swimming",
+                                     f"{PAPER} §7.2 (>= 2 x peak swimming load)")
+    cable_diameter_max_mm: float = p(1.5, 0.1, 10.0, "Largest cable diameter", f"{PAPER} §7.2 (<= 1.5 mm)")
+    elongation_max_fraction: float = p(0.005, 0.0001, 0.5, "Largest cable strain at the peak working tension",
+                                       f"{PAPER} §7.2 (< 0.5 %)")
+    ptfe_mu_max: float = p(0.1, 0.01, 1.0, "Largest cable-on-guide friction coefficient", f"{PAPER} §7.2 (< 0.1)")
+    guides_per_route_max: int = p(2, 0, 20, "Redirecting guides on one cable route before a warning",
+                                  f"{PAPER} eq. 29 (SwiftFin budgets two redirecting guides)")
+    capstan_slip_margin: float = p(2.0, 1.0, 10.0,
+                                   "Capstan holding capacity T_slack e^(mu theta) / T_tight needed at peak load",
+                                   "Engineering default (factor 2 on friction: mu of printed PLA varies ~2x)")
+    cable_safety_factor: float = p(3.0, 1.0, 20.0, "Breaking strength / peak cable tension",
+                                   "Engineering default for synthetic cord in cyclic use (3-5)")
+    pullout_safety_factor: float = p(1.5, 1.0, 5.0, "Pull-out torque / needed motor torque at every step rate",
+                                     "Oriental Motor stepper sizing guide (1.5-2 on the speed-torque curve)")
+    position_error_limit_fraction: float = p(0.02, 0.001, 0.5,
+                                             "Largest joint position error / joint amplitude",
+                                             f"{PAPER} §2.5.3 (the servo's 2 % amplitude error is what the "
+                                             "capstan is meant to beat)")
+    strouhal_min: float = p(0.25, 0.0, 2.0, "Lower end of the efficient Strouhal band", f"{PAPER} §2.5.3 (0.25)")
+    strouhal_max: float = p(0.35, 0.0, 2.0, "Upper end of the efficient Strouhal band", f"{PAPER} §2.5.3 (0.35)")
+    wall_min_line_widths: float = p(2.0, 1.0, 10.0, "Thinnest printed wall / extrusion line width",
+                                    "FDM practice (two perimeters make a closed wall)")
+
+
+@dataclass(frozen=True)
 class Print:
     bed_x_mm: float = p(250.0, 50.0, 2000.0, "Printer bed X", "Prusa MK4 (250 x 210 x 220)")
     bed_y_mm: float = p(210.0, 50.0, 2000.0, "Printer bed Y", "Prusa MK4")
@@ -248,11 +313,13 @@ class Params:
     caudal_fin: CaudalFin = field(default_factory=CaudalFin)
     swimming: Swimming = field(default_factory=Swimming)
     environment: Environment = field(default_factory=Environment)
+    hydro: Hydro = field(default_factory=Hydro)
+    rules: Rules = field(default_factory=Rules)
     print: Print = field(default_factory=Print)
     export: Export = field(default_factory=Export)
     components: tuple = field(default=DEFAULT_COMPONENTS)
 
 
 SECTIONS = {"body": Body, "hull": Hull, "joints": Joints, "motor": Motor, "spool": Spool, "cable": Cable,
-            "guides": Guides, "caudal_fin": CaudalFin, "swimming": Swimming, "environment": Environment,
+            "guides": Guides, "caudal_fin": CaudalFin, "swimming": Swimming, "environment": Environment, "hydro": Hydro, "rules": Rules,
             "print": Print, "export": Export}

@@ -59,6 +59,7 @@ BAD_FILES = [
     ("[joints]\nstations_fraction = [0.30, 0.62, 0.695, 0.765]\n", ["motor for joint", "does not fit"]),
     ("[spool\n", ["not valid TOML"]),
     ("[[components]]\nname = 'x'\n", ["components[0].mass_kg", "required"]),
+    ("[rules]\nstrouhal_min = 0.4\n", ["rules.strouhal_min = 0.4", "below rules.strouhal_max"]),
 ]
 
 

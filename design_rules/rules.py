@@ -1,0 +1,370 @@
+"""The design rules, as data: ``RULES`` is a list of (id, function); each function takes a :class:`RuleContext`
+and returns one :class:`~design_rules.findings.Finding`.
+
+Three groups: the paper's guidelines (§7.2), what follows from the physics at the design point (the load model
+of ``physics.loads``), and what a printed robot needs. Limits come from the ``[rules]`` section of the parameter
+file; the default limits are the paper's where it gives one.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Callable
+
+import numpy as np
+
+from cad.layout import cable_routes, half_height_mm, hull_segments, naca_half_width_mm, spool_dims
+from design_rules.findings import Finding, Severity, at_least, at_most, not_evaluated, within
+from physics.capstan import cable_area_m2
+from physics.kinematics import joint_resolution_rad
+from physics.loads import DriveLoads, JointLoads, LinkMass, drive_loads, fin_geometry, joint_loads
+from physics.strouhal import strouhal
+from swiftfin.params import Problem
+from swiftfin.schema import Params
+
+PAPER = "SwiftFin paper"
+MIN_GUIDE_BEND_RAD = math.radians(1.0)   # a "bend" under 1 deg needs no redirecting guide
+
+
+@dataclass(frozen=True)
+class MassProperties:
+    """Mass properties of the assembled robot in the body frame (SI): from the built parts (another issue)."""
+    total_mass_kg: float
+    com_m: tuple[float, float, float]
+    cob_m: tuple[float, float, float]
+    displaced_volume_m3: float
+
+    @classmethod
+    def from_dict(cls, d: dict, source: str = "<mass properties>") -> "MassProperties":
+        """Validate ``{total_mass_kg, com_m: [x, y, z], cob_m: [x, y, z], displaced_volume_m3}``.
+
+        Raises :class:`swiftfin.params.ParamError` listing every problem (exit 2 in the CLI)."""
+        from swiftfin.params import ParamError
+        probs = []
+        want = {"total_mass_kg": "a positive number [kg]", "displaced_volume_m3": "a positive number [m^3]",
+                "com_m": "a list of 3 finite numbers [m]", "cob_m": "a list of 3 finite numbers [m]"}
+        if not isinstance(d, dict):
+            raise ParamError(source, [Problem("(file)", type(d).__name__, "expected a JSON object")])
+        for k in d:
+            if k not in want:
+                probs.append(Problem(k, d[k], f"unknown key: expected {', '.join(want)}"))
+        for k, what in want.items():
+            v = d.get(k)
+            if k.endswith("_m"):
+                ok = isinstance(v, (list, tuple)) and len(v) == 3 and all(
+                    isinstance(c, (int, float)) and not isinstance(c, bool) and math.isfinite(c) for c in v)
+            else:
+                ok = isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0
+            if not ok:
+                probs.append(Problem(k, v if k in d else "(missing)", f"expected {what}"))
+        if probs:
+            raise ParamError(source, probs)
+        return cls(float(d["total_mass_kg"]), tuple(float(c) for c in d["com_m"]),
+                   tuple(float(c) for c in d["cob_m"]), float(d["displaced_volume_m3"]))
+
+
+class RuleContext:
+    """Everything the rules read: the parameters, optional built-part data, and the loads (computed once)."""
+
+    def __init__(self, params: Params, mass_properties: MassProperties | None = None,
+                 part_bboxes_mm: dict[str, tuple[float, float, float]] | None = None,
+                 link_masses: tuple[LinkMass, ...] | None = None):
+        self.p = params
+        self.mass_properties = mass_properties
+        self.part_bboxes_mm = part_bboxes_mm
+        self.link_masses = link_masses
+
+    @cached_property
+    def loads(self) -> JointLoads:
+        return joint_loads(self.p, self.link_masses)
+
+    @cached_property
+    def drive(self) -> DriveLoads:
+        return drive_loads(self.p, self.loads)
+
+    @cached_property
+    def joint_amplitude_rad(self) -> np.ndarray:
+        return np.max(np.abs(self.loads.joint_angle_rad), axis=0)
+
+    @property
+    def load_note(self) -> str:
+        src = "built parts" if self.link_masses is not None else "hull-shell estimate"
+        return f"load model physics/loads.py at {self.p.swimming.tail_beat_frequency_hz:g} Hz, link masses from {src}"
+
+
+def _worst(values) -> tuple[int, float]:
+    i = int(np.argmax(values))
+    return i, float(values[i])
+
+
+# ----------------------------------------------------------------------------------------------- paper §7.2
+def drum_to_cable(ctx: RuleContext) -> Finding:
+    p = ctx.p
+    return at_least("paper.drum_to_cable", p.spool.drum_diameter_mm / p.cable.diameter_mm, p.rules.drum_to_cable_min,
+                    f"{PAPER} §7.2 (drum >= 20 x cable diameter)",
+                    detail=f"drum {p.spool.drum_diameter_mm:g} mm / cable {p.cable.diameter_mm:g} mm")
+
+
+def pretension_band(ctx: RuleContext) -> Finding:
+    p = ctx.p
+    return within("paper.pretension_fraction", p.cable.pretension_n / p.cable.breaking_strength_n,
+                  p.rules.pretension_min_fraction, p.rules.pretension_max_fraction,
+                  f"{PAPER} §7.2 (10-20 % of breaking strength)",
+                  detail=f"{p.cable.pretension_n:g} N of {p.cable.breaking_strength_n:g} N")
+
+
+def holding_torque(ctx: RuleContext) -> Finding:
+    i, peak = _worst(ctx.drive.peak_motor_torque_nm)
+    return at_least("paper.holding_torque", ctx.p.motor.holding_torque_nm / peak, ctx.p.rules.holding_torque_factor,
+                    f"{PAPER} §7.2 (holding torque >= 2 x peak swimming load)",
+                    detail=f"holding {ctx.p.motor.holding_torque_nm:g} N m / peak motor torque {peak:.3g} N m "
+                           f"(joint {i + 1}); {ctx.load_note}")
+
+
+def cable_diameter(ctx: RuleContext) -> Finding:
+    return at_most("paper.cable_diameter", ctx.p.cable.diameter_mm, ctx.p.rules.cable_diameter_max_mm,
+                   f"{PAPER} §7.2 (<= 1.5 mm)", unit="mm")
+
+
+def cable_elongation(ctx: RuleContext) -> Finding:
+    p = ctx.p
+    i, t = _worst(ctx.drive.peak_tension_n)
+    strain = t / (p.cable.youngs_modulus_gpa * 1e9 * cable_area_m2(p.cable.diameter_mm * 1e-3))
+    return at_most("paper.cable_elongation", strain, p.rules.elongation_max_fraction,
+                   f"{PAPER} §7.2 (< 0.5 % at working load)",
+                   detail=f"peak tension {t:.4g} N (joint {i + 1}), E = {p.cable.youngs_modulus_gpa:g} GPa on the "
+                          f"full {p.cable.diameter_mm:g} mm section")
+
+
+def guide_friction(ctx: RuleContext) -> Finding:
+    return at_most("paper.guide_friction", ctx.p.guides.mu_ptfe, ctx.p.rules.ptfe_mu_max,
+                   f"{PAPER} §7.2 (PTFE guides with mu < 0.1)")
+
+
+def guides_per_route(ctx: RuleContext) -> Finding:
+    counts = {}
+    for rt in cable_routes(ctx.p):
+        counts[(rt.joint, rt.side)] = sum(1 for b in rt.bends if b.angle_rad > MIN_GUIDE_BEND_RAD)
+    (j, side), n = max(counts.items(), key=lambda kv: kv[1])
+    return at_most("paper.guides_per_route", n, ctx.p.rules.guides_per_route_max,
+                   f"{PAPER} §7.2 (minimise redirecting guides); eq. 29 budgets 2",
+                   detail=f"joint {j + 1} {'left' if side > 0 else 'right'} route: {n} bends over 1 deg "
+                          f"(cad.layout.cable_routes)", above=Severity.WARN)
+
+
+# ----------------------------------------------------------------------------------------------- physics
+def capstan_no_slip(ctx: RuleContext) -> Finding:
+    cap = ctx.drive.capstan_capacity.min(axis=0)
+    i = int(np.argmin(cap))
+    return at_least("physics.capstan_no_slip", float(cap[i]), ctx.p.rules.capstan_slip_margin,
+                    f"{PAPER} eq. 20: T_tight / T_slack <= e^(mu theta_w)",
+                    detail=f"worst joint {i + 1}: min over the cycle of T_slack e^(mu theta_w) / T_tight at the spool "
+                           f"(mu {ctx.p.spool.mu_cable_drum:g}, {ctx.p.spool.wraps:g} wraps); 0 means a side went "
+                           f"slack; {ctx.load_note}")
+
+
+def no_slack_side(ctx: RuleContext) -> Finding:
+    p = ctx.p
+    m = p.joints.tendon_moment_arm_mm * 1e-3
+    need = ctx.loads.peak_torque_nm / (2 * m)
+    i, worst = _worst(need)
+    return at_least("physics.no_slack_side", p.cable.pretension_n, worst,
+                    "pull-pull pair: T_slack = T0 - tau / (2 d_mount) (physics.capstan.pull_pull_tensions)", unit="N",
+                    detail=f"pretension vs half the peak tension difference, joint {i + 1} "
+                           f"(peak torque {ctx.loads.peak_torque_nm[i]:.3g} N m); {ctx.load_note}")
+
+
+def cable_strength(ctx: RuleContext) -> Finding:
+    i, t = _worst(ctx.drive.peak_spool_tension_n)
+    return at_least("physics.cable_strength", ctx.p.cable.breaking_strength_n / t, ctx.p.rules.cable_safety_factor,
+                    "breaking strength / peak tension (at the spool, after the guides' friction)",
+                    detail=f"peak {t:.4g} N on joint {i + 1}; {ctx.load_note}")
+
+
+def stepper_pullout(ctx: RuleContext) -> Finding:
+    mo = ctx.p.motor
+    rates = np.asarray(mo.pullout_curve_steps_per_s)
+    torques = np.asarray(mo.pullout_curve_torque_nm)
+    need_rate = ctx.drive.step_rate_full_steps_s
+    need_torque = np.abs(ctx.drive.motor_torque_nm)
+    src = "[motor] pull-out curve (speed-torque) at the full-step rate the wave demands (eq. 48 differentiated)"
+    if need_rate.max() > rates[-1]:
+        return Finding("physics.stepper_pullout", float(need_rate.max()), float(rates[-1]),
+                       float((rates[-1] - need_rate.max()) / rates[-1]), Severity.FAIL, src, "full steps/s", "<=",
+                       "the wave needs a step rate beyond the end of the pull-out curve")
+    avail = np.interp(need_rate, rates, torques)
+    ratio = np.where(need_torque > 0, avail / np.maximum(need_torque, 1e-12), np.inf)
+    t_i, j = np.unravel_index(int(np.argmin(ratio)), ratio.shape)
+    return at_least("physics.stepper_pullout", float(ratio[t_i, j]), ctx.p.rules.pullout_safety_factor, src,
+                    detail=f"joint {j + 1}: needs {need_torque[t_i, j]:.3g} N m at {need_rate[t_i, j]:.0f} full steps/s, "
+                           f"curve gives {avail[t_i, j]:.3g} N m; {ctx.load_note}")
+
+
+def microstep_resolution(ctx: RuleContext) -> Finding:
+    p = ctx.p
+    q = joint_resolution_rad(math.radians(p.motor.full_step_deg), p.motor.microsteps,
+                             p.joints.tendon_moment_arm_mm * 1e-3, p.spool.drum_diameter_mm / 2 * 1e-3)
+    frac = (q / 2) / ctx.joint_amplitude_rad
+    i, worst = _worst(frac)
+    return at_most("physics.microstep_resolution", worst, p.rules.position_error_limit_fraction,
+                   f"{PAPER} eq. 48 inverted: one microstep = {math.degrees(q):.4g} deg at the joint",
+                   detail=f"half a microstep / joint {i + 1}'s amplitude {math.degrees(ctx.joint_amplitude_rad[i]):.3g} deg")
+
+
+def cable_compliance(ctx: RuleContext) -> Finding:
+    frac = ctx.drive.compliance_rad.max(axis=0) / ctx.joint_amplitude_rad
+    i, worst = _worst(frac)
+    return at_most("physics.cable_compliance", worst, ctx.p.rules.position_error_limit_fraction,
+                   f"{PAPER} eq. 39 at the joint: stretch / d_mount",
+                   detail=f"joint {i + 1}: {math.degrees(ctx.drive.compliance_rad[:, i].max()):.3g} deg of stretch at "
+                          f"peak load vs {math.degrees(ctx.joint_amplitude_rad[i]):.3g} deg amplitude; {ctx.load_note}")
+
+
+def strouhal_band(ctx: RuleContext) -> Finding:
+    sw = ctx.p.swimming
+    if sw.speed_m_s <= 0:
+        return not_evaluated("physics.strouhal", f"{PAPER} eq. 41", "swimming.speed_m_s = 0: St = f A / U undefined")
+    st = float(strouhal(sw.tail_beat_frequency_hz, 2 * sw.tail_amplitude_m, sw.speed_m_s))
+    return within("physics.strouhal", st, ctx.p.rules.strouhal_min, ctx.p.rules.strouhal_max,
+                  f"{PAPER} eq. 41 and §2.5.3 (0.25-0.35)",
+                  detail=f"f = {sw.tail_beat_frequency_hz:g} Hz, A = 2 x {sw.tail_amplitude_m:g} m (peak to peak), "
+                         f"U = {sw.speed_m_s:g} m/s")
+
+
+# ----------------------------------------------------------------------------------------------- printing
+def _wall(rule_id: str, thickness_mm: float, what: str):
+    def rule(ctx: RuleContext) -> Finding:
+        lw = ctx.p.print.line_width_mm
+        return at_least(rule_id, thickness_mm(ctx.p) / lw, ctx.p.rules.wall_min_line_widths,
+                        "FDM: a closed wall needs two perimeters", unit="line widths",
+                        detail=f"{what} {thickness_mm(ctx.p):g} mm / line width {lw:g} mm")
+    rule.__name__ = rule_id.split(".")[-1]
+    return rule
+
+
+def fits_bed(size_mm, bed_mm, n_angles: int = 361) -> bool:
+    """Whether a box (dx, dy, dz) fits the bed (X, Y, Z), turned by any angle about z."""
+    dx, dy, dz = size_mm
+    X, Y, Z = bed_mm
+    if dz > Z:
+        return False
+    a = np.linspace(0.0, np.pi / 2, n_angles)
+    w = dx * np.cos(a) + dy * np.sin(a)
+    h = dx * np.sin(a) + dy * np.cos(a)
+    return bool(np.any((w <= X) & (h <= Y)))
+
+
+def fit_factor(size_mm, bed_mm) -> float:
+    """Largest scale k such that k x the box still fits the bed (>= 1: fits)."""
+    lo, hi = 0.0, 100.0
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        if fits_bed(tuple(mid * s for s in size_mm), bed_mm):
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+def layout_part_boxes_mm(p: Params) -> dict[str, tuple[float, float, float]]:
+    """Print-orientation bounding boxes of the parts the layout already sizes: hull segments (halves, flat face
+    down, when split), the caudal fin (flat) and the spool (axis up). An estimate until the parts are built."""
+    out = {}
+    for seg in hull_segments(p):
+        s = np.linspace(seg.s_start_mm, seg.s_end_mm, 200)
+        w = 2 * float(np.max(naca_half_width_mm(p, s)))
+        h = float(np.max(half_height_mm(p, s)))
+        length = seg.s_end_mm - seg.s_start_mm
+        if p.hull.split_halves:
+            out[f"{seg.name}_upper"] = (length, w, h)
+            out[f"{seg.name}_lower"] = (length, w, h)
+        else:
+            out[seg.name] = (length, w, 2 * h)
+    fin = fin_geometry(p)
+    sweep = math.tan(math.radians(p.caudal_fin.sweep_deg)) * fin.span_m / 2
+    out["caudal_fin"] = ((fin.chord_m + sweep) * 1e3 + p.caudal_fin.mount_length_mm, fin.span_m * 1e3,
+                         p.caudal_fin.thickness_fraction * fin.chord_m * 1e3)
+    d = spool_dims(p)
+    out["spool"] = (2 * d.flange_radius_mm, 2 * d.flange_radius_mm, d.top_mm - d.hub_bottom_mm)
+    return out
+
+
+def bed_fit(ctx: RuleContext) -> Finding:
+    pr = ctx.p.print
+    bed = (pr.bed_x_mm, pr.bed_y_mm, pr.bed_z_mm)
+    boxes, src = (ctx.part_bboxes_mm, "built parts") if ctx.part_bboxes_mm else (layout_part_boxes_mm(ctx.p),
+                                                                                  "layout estimate")
+    factors = {k: fit_factor(v, bed) for k, v in boxes.items()}
+    name = min(factors, key=factors.get)
+    size = boxes[name]
+    return at_least("print.bed_fit", factors[name], 1.0, "every printed part fits the bed (turned about z if need be)",
+                    detail=f"tightest: {name} {size[0]:.0f} x {size[1]:.0f} x {size[2]:.0f} mm on a "
+                           f"{bed[0]:g} x {bed[1]:g} x {bed[2]:g} mm bed ({src}; value = how much it could grow)")
+
+
+def floats_upright(ctx: RuleContext) -> Finding:
+    src = "centre of buoyancy above the centre of mass (hydrostatic stability in roll)"
+    mp = ctx.mass_properties
+    if mp is None:
+        return not_evaluated("float.upright", src, "needs the built parts' mass properties (com, cob): "
+                                                   "pass --mass-properties FILE", unit="mm")
+    dz = (mp.cob_m[2] - mp.com_m[2]) * 1e3
+    return at_least("float.upright", dz, 0.0, src, unit="mm", detail="z_cob - z_com in the body frame")
+
+
+def net_buoyancy(ctx: RuleContext) -> Finding:
+    src = "near-neutral trim: |rho V - m| / m within environment.buoyancy_band_fraction"
+    mp = ctx.mass_properties
+    if mp is None:
+        return not_evaluated("float.net_buoyancy", src, "needs the built parts' mass and displaced volume: "
+                                                        "pass --mass-properties FILE")
+    rho = ctx.p.environment.water_density_kg_m3
+    frac = (rho * mp.displaced_volume_m3 - mp.total_mass_kg) / mp.total_mass_kg
+    return at_most("float.net_buoyancy", abs(frac), ctx.p.environment.buoyancy_band_fraction, src,
+                   detail=f"buoyancy {rho * mp.displaced_volume_m3:.3g} kg vs mass {mp.total_mass_kg:.3g} kg "
+                          f"({'floats' if frac > 0 else 'sinks'})")
+
+
+@dataclass(frozen=True)
+class Rule:
+    rule_id: str
+    group: str
+    check: Callable[[RuleContext], Finding]
+
+
+RULES: list[Rule] = [
+    Rule("paper.drum_to_cable", "paper", drum_to_cable),
+    Rule("paper.pretension_fraction", "paper", pretension_band),
+    Rule("paper.holding_torque", "paper", holding_torque),
+    Rule("paper.cable_diameter", "paper", cable_diameter),
+    Rule("paper.cable_elongation", "paper", cable_elongation),
+    Rule("paper.guide_friction", "paper", guide_friction),
+    Rule("paper.guides_per_route", "paper", guides_per_route),
+    Rule("physics.capstan_no_slip", "physics", capstan_no_slip),
+    Rule("physics.no_slack_side", "physics", no_slack_side),
+    Rule("physics.cable_strength", "physics", cable_strength),
+    Rule("physics.stepper_pullout", "physics", stepper_pullout),
+    Rule("physics.microstep_resolution", "physics", microstep_resolution),
+    Rule("physics.cable_compliance", "physics", cable_compliance),
+    Rule("physics.strouhal", "physics", strouhal_band),
+    Rule("print.hull_wall", "print", _wall("print.hull_wall", lambda p: p.hull.wall_thickness_mm, "hull wall")),
+    Rule("print.fin_min_thickness", "print",
+         _wall("print.fin_min_thickness", lambda p: p.caudal_fin.min_thickness_mm, "fin's thinnest section")),
+    Rule("print.spool_flange", "print",
+         _wall("print.spool_flange", lambda p: p.spool.flange_thickness_mm, "spool flange")),
+    Rule("print.bed_fit", "print", bed_fit),
+    Rule("float.upright", "float", floats_upright),
+    Rule("float.net_buoyancy", "float", net_buoyancy),
+]
+
+
+def run_rules(ctx: RuleContext, rules: list[Rule] | None = None) -> list[Finding]:
+    """Apply every rule (default: all of ``RULES``) and return their findings in order."""
+    out = []
+    for rule in rules if rules is not None else RULES:
+        f = rule.check(ctx)
+        if f.rule_id != rule.rule_id:
+            raise RuntimeError(f"rule {rule.rule_id} returned a finding for {f.rule_id}")
+        out.append(f)
+    return out

@@ -1,0 +1,171 @@
+"""``swiftfin check [PARAMS] [--json FILE]``: apply the design rules and print a table of findings.
+
+Exit codes: 0 when no rule fails (PASS, INFO, WARN and NOT_EVALUATED do not fail), 1 when any rule fails,
+2 for a bad parameter file or a bad --mass-properties / --parts-bbox file.
+
+In CI::
+
+    swiftfin check swiftfin.toml --json build/check.json   # the job fails on exit code 1 (or 2)
+
+e.g. as a GitHub Actions step after ``make build`` has set up ``.venv``::
+
+    - name: design rules
+      run: .venv/bin/swiftfin check swiftfin.toml --json build/check.json
+    - uses: actions/upload-artifact@v4
+      if: always()
+      with: {name: design-rules, path: build/check.json}
+
+A WARN (e.g. more redirecting guides than the paper's budget) or a NOT_EVALUATED rule (mass properties not
+given) does not fail the job; read the "why:" lines under the table.
+
+``--mass-properties FILE``: JSON ``{"total_mass_kg": m, "com_m": [x, y, z], "cob_m": [x, y, z],
+"displaced_volume_m3": V}`` in the body frame (from the built parts); without it the floating rules report
+NOT_EVALUATED. ``--parts-bbox FILE``: JSON ``{"label": [dx, dy, dz], ...}`` in mm, print orientation; without it
+the bed rule uses the layout's estimate of the largest parts. ``--loads`` also prints the load model's numbers
+per joint and the sensitivity of its outputs to the uncertain coefficients.
+"""
+from __future__ import annotations
+
+import json
+import math
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from design_rules import MassProperties, RuleContext, Severity, run_rules, verdict
+from physics.loads import sensitivity_table
+from swiftfin.config import DEFAULT_DESIGN, load_design
+from swiftfin.errors import UserError
+from swiftfin.params import ParamError, Problem
+
+
+def register(sub) -> None:
+    import argparse
+    ap = sub.add_parser("check", help="apply the design rules (exit 1 if any fails)", description=__doc__,
+                        formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("params_file", nargs="?", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
+    ap.add_argument("--json", metavar="FILE", help="also write the findings as JSON")
+    ap.add_argument("--mass-properties", metavar="FILE", help="JSON mass properties of the built robot")
+    ap.add_argument("--parts-bbox", metavar="FILE", help="JSON print-orientation bounding boxes of the built parts [mm]")
+    ap.add_argument("--loads", action="store_true", help="print the per-joint loads and their sensitivities")
+    ap.set_defaults(func=run)
+
+
+def _read_json(path: str, what: str):
+    try:
+        return json.loads(Path(path).read_text())
+    except FileNotFoundError:
+        raise ParamError(path, [Problem("(file)", path, f"{what} file not found")]) from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ParamError(path, [Problem("(file)", path, f"{what} file is not readable JSON: {exc}")]) from None
+
+
+def _bboxes(path: str) -> dict:
+    raw = _read_json(path, "parts bounding-box")
+    if not isinstance(raw, dict) or not raw:
+        raise ParamError(path, [Problem("(file)", type(raw).__name__, "expected a JSON object {label: [dx, dy, dz]}")])
+    probs, out = [], {}
+    for k, v in raw.items():
+        if (isinstance(v, list) and len(v) == 3 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
+                                                         and math.isfinite(c) and c > 0 for c in v)):
+            out[k] = tuple(float(c) for c in v)
+        else:
+            probs.append(Problem(k, v, "expected three positive sizes [dx, dy, dz] in mm"))
+    if probs:
+        raise ParamError(path, probs)
+    return out
+
+
+def _write_json(path: str, data) -> None:
+    out = Path(path)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        out.write_text(json.dumps(data, indent=2))
+    except OSError as exc:
+        raise UserError(f"cannot write {path}: {exc}") from None
+
+
+def _fmt(v) -> str:
+    return "-" if v is None else f"{v:.4g}"
+
+
+def format_table(findings) -> str:
+    rows = [("rule", "value", "limit", "margin", "verdict")]
+    for f in findings:
+        rows.append((f.rule_id, _fmt(f.value) + ("" if f.unit == "-" or f.value is None else f" {f.unit}"),
+                     f.limit_text(), "-" if f.margin is None else f"{100 * f.margin:+.0f} %", f.severity.name))
+    widths = [max(len(r[i]) for r in rows) for i in range(5)]
+    lines = []
+    for n, r in enumerate(rows):
+        lines.append("  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip())
+        if n == 0:
+            lines.append("  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def loads_report(ctx: RuleContext) -> dict:
+    jl, dl = ctx.loads, ctx.drive
+    per_joint = []
+    for j in range(ctx.p.joints.count):
+        per_joint.append({
+            "joint": j + 1,
+            "amplitude_deg": math.degrees(float(np.abs(jl.joint_angle_rad[:, j]).max())),
+            "peak_torque_nm": float(jl.peak_torque_nm[j]),
+            "peak_torque_components_nm": {k: float(v[j]) for k, v in jl.peak_components_nm.items()},
+            "peak_tension_n": float(dl.peak_tension_n[j]),
+            "min_tension_n": float(dl.min_tension_n[j]),
+            "peak_spool_tension_n": float(dl.peak_spool_tension_n[j]),
+            "peak_motor_torque_nm": float(dl.peak_motor_torque_nm[j]),
+            "route_efficiency": float(dl.route_efficiency[j]),
+            "peak_step_rate_full_steps_s": float(dl.step_rate_full_steps_s[:, j].max()),
+        })
+    return {"per_joint": per_joint, "mean_mechanical_power_w": jl.mean_power_w,
+            "mean_positive_power_w": jl.mean_positive_power_w,
+            "link_masses": [{"mass_kg": float(m.mass_kg), "com_station_m": float(m.com_station_m),
+                             "izz_com_kg_m2": float(m.izz_com_kg_m2)} for m in jl.link_masses]}
+
+
+def run(args) -> int:
+    params = load_design(args.params_file)
+    mp = None
+    if args.mass_properties:
+        mp = MassProperties.from_dict(_read_json(args.mass_properties, "mass properties"), args.mass_properties)
+    boxes = _bboxes(args.parts_bbox) if args.parts_bbox else None
+    ctx = RuleContext(params, mass_properties=mp, part_bboxes_mm=boxes)
+    findings = run_rules(ctx)
+    worst = verdict(findings)
+    print(f"swiftfin check {args.params_file}")
+    print(format_table(findings))
+    notes = [f for f in findings if f.severity >= Severity.NOT_EVALUATED and f.detail]
+    if notes:
+        print("\nwhy:")
+        for f in notes:
+            print(f"  {f.rule_id} ({f.severity.name}): {f.detail}")
+    counts = {s.name: sum(1 for f in findings if f.severity is s) for s in Severity}
+    print(f"\nverdict: {worst.name}  (" + ", ".join(f"{v} {k}" for k, v in counts.items() if v) + ")")
+    report = {"params_file": str(args.params_file), "verdict": worst.name,
+              "findings": [f.to_dict() for f in findings]}
+    if args.loads or args.json:
+        report["loads"] = loads_report(ctx)
+    if args.loads:
+        sens = sensitivity_table(params)
+        report["sensitivity"] = sens
+        lr = report["loads"]
+        print("\nloads at the design point (physics/loads.py):")
+        print("  joint  amp[deg]  tau_peak[N m]  T_peak[N]  T_min[N]  motor[N m]  steps/s  route_eff")
+        for r in lr["per_joint"]:
+            print(f"  {r['joint']:5d}  {r['amplitude_deg']:8.2f}  {r['peak_torque_nm']:13.3f}  {r['peak_tension_n']:9.1f}"
+                  f"  {r['min_tension_n']:8.1f}  {r['peak_motor_torque_nm']:10.3f}  {r['peak_step_rate_full_steps_s']:7.0f}"
+                  f"  {r['route_efficiency']:9.3f}")
+        print(f"  mean mechanical power {lr['mean_mechanical_power_w']:.2f} W "
+              f"(positive part {lr['mean_positive_power_w']:.2f} W)")
+        outs = list(next(iter(sens.values())))
+        print("\nsensitivity d log(output) / d log(coefficient):")
+        print("  " + "coefficient".ljust(38) + "".join(o.ljust(24) for o in outs))
+        for k, row in sens.items():
+            print("  " + k.ljust(38) + "".join(f"{row[o]:+.3f}".ljust(24) for o in outs))
+    if args.json:
+        _write_json(args.json, report)
+    sys.stdout.flush()
+    return 1 if worst >= Severity.FAIL else 0

@@ -1,0 +1,87 @@
+"""``swiftfin check``: the table, the JSON, and the exit codes 0 / 1 / 2."""
+from __future__ import annotations
+
+import json
+
+from swiftfin.cli import main
+from tests.conftest import DEFAULT_DESIGN
+
+
+def _write(tmp_path, name, text):
+    path = tmp_path / name
+    path.write_text(text)
+    return str(path)
+
+
+def test_default_design_fails_with_a_table_and_json(tmp_path, capsys):
+    out_json = tmp_path / "check.json"
+    assert main(["check", str(DEFAULT_DESIGN), "--json", str(out_json)]) == 1
+    out = capsys.readouterr().out
+    assert out.splitlines()[1].split() == ["rule", "value", "limit", "margin", "verdict"]
+    assert "paper.drum_to_cable" in out and "verdict: FAIL" in out
+    data = json.loads(out_json.read_text())
+    assert data["verdict"] == "FAIL"
+    by_id = {f["rule_id"]: f for f in data["findings"]}
+    assert by_id["physics.strouhal"]["severity"] == "PASS"
+    assert by_id["float.upright"]["severity"] == "NOT_EVALUATED" and by_id["float.upright"]["value"] is None
+    assert len(data["loads"]["per_joint"]) == 4
+
+
+def test_passing_design_exits_0(tmp_path, capsys):
+    # light swimming, a stiff cable (Dyneema-like modulus) and built parts that fit the bed: nothing fails
+    params = _write(tmp_path, "light.toml", "[swimming]\ntail_beat_frequency_hz = 1.0\ntail_amplitude_m = 0.03\n"
+                                           "speed_m_s = 0.2\n[cable]\nyoungs_modulus_gpa = 100.0\n")
+    boxes = _write(tmp_path, "boxes.json", json.dumps({"hull_head_upper": [200, 80, 60], "spool": [26, 26, 20]}))
+    mp = _write(tmp_path, "mp.json", json.dumps({"total_mass_kg": 1.2, "com_m": [-0.2, 0, -0.01],
+                                                 "cob_m": [-0.2, 0, 0.0], "displaced_volume_m3": 1.21e-3}))
+    assert main(["check", params, "--parts-bbox", boxes, "--mass-properties", mp]) == 0
+    out = capsys.readouterr().out
+    assert "verdict: WARN" in out and "FAIL" not in out.split("verdict:")[0].split("why:")[0]
+
+
+def test_bad_design_fails_the_named_rules(tmp_path, capsys):
+    params = _write(tmp_path, "bad.toml", "[spool]\ndrum_diameter_mm = 12.0\n[cable]\ndiameter_mm = 1.0\n"
+                                         "pretension_n = 15.0\n")
+    out_json = tmp_path / "bad.json"
+    assert main(["check", params, "--json", str(out_json)]) == 1
+    sev = {f["rule_id"]: f["severity"] for f in json.loads(out_json.read_text())["findings"]}
+    assert sev["paper.drum_to_cable"] == sev["paper.pretension_fraction"] == sev["physics.capstan_no_slip"] == "FAIL"
+
+
+def test_bad_parameter_file_exits_2(tmp_path, capsys):
+    params = _write(tmp_path, "bad.toml", "[spool]\ndrum_diameter_mm = -3\n")
+    assert main(["check", params]) == 2
+    err = capsys.readouterr().err
+    assert "spool.drum_diameter_mm = -3" in err and "Traceback" not in err
+
+
+def test_contradictory_rule_limits_exit_2(tmp_path, capsys):
+    params = _write(tmp_path, "r.toml", "[rules]\nstrouhal_min = 0.4\nstrouhal_max = 0.3\n")
+    assert main(["check", params]) == 2
+    assert "rules.strouhal_min" in capsys.readouterr().err
+
+
+def test_bad_side_files_exit_2(tmp_path, capsys):
+    mp = _write(tmp_path, "mp.json", json.dumps({"total_mass_kg": "heavy"}))
+    assert main(["check", str(DEFAULT_DESIGN), "--mass-properties", mp]) == 2
+    err = capsys.readouterr().err
+    assert "total_mass_kg" in err and "displaced_volume_m3" in err
+    boxes = _write(tmp_path, "b.json", "{not json")
+    assert main(["check", str(DEFAULT_DESIGN), "--parts-bbox", boxes]) == 2
+    assert "not readable JSON" in capsys.readouterr().err
+    assert main(["check", str(DEFAULT_DESIGN), "--parts-bbox", str(tmp_path / "missing.json")]) == 2
+
+
+def test_loads_flag_prints_sensitivities(capsys):
+    assert main(["check", str(DEFAULT_DESIGN), "--loads"]) == 1
+    out = capsys.readouterr().out
+    assert "sensitivity d log(output) / d log(coefficient)" in out and "hydro.fin_added_mass_coefficient" in out
+
+
+def test_json_into_a_new_folder_and_unwritable_path(tmp_path, capsys):
+    out = tmp_path / "build" / "deep" / "check.json"
+    assert main(["check", str(DEFAULT_DESIGN), "--json", str(out)]) == 1 and out.is_file()
+    blocker = tmp_path / "file"
+    blocker.write_text("x")
+    assert main(["check", str(DEFAULT_DESIGN), "--json", str(blocker / "check.json")]) == 2
+    assert "cannot write" in capsys.readouterr().err
