@@ -4,6 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from cad.layout import layout_problems
+from cad.link import joint_link_problems
 from swiftfin.params import ParamError, params_from_dict, read_toml
 from swiftfin.schema import Params
 
@@ -13,6 +14,8 @@ DEFAULT_DESIGN = "swiftfin.toml"
 def check_design(params: Params, source: str) -> Params:
     """Raise ParamError listing every geometric impossibility of a schema-valid design."""
     problems = layout_problems(params)
+    if not problems:  # the links' own room (tendon wrap, stops, flange bolts) assumes a feasible layout
+        problems = joint_link_problems(params)
     if problems:
         raise ParamError(source, problems)
     return params

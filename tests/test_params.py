@@ -60,6 +60,8 @@ BAD_FILES = [
     ("[spool\n", ["not valid TOML"]),
     ("[[components]]\nname = 'x'\n", ["components[0].mass_kg", "required"]),
     ("[rules]\nstrouhal_min = 0.4\n", ["rules.strouhal_min = 0.4", "below rules.strouhal_max"]),
+    ("[joints]\ncount = 2\nstations_fraction = [0.58, 0.72]\n", ["joints.tendon_moment_arm_mm",
+                                                                  "tendon groove cannot wrap its stop angle"]),
 ]
 
 

@@ -1,0 +1,158 @@
+"""Caudal fin: a lunate fin of NACA 00xx sections with a root tang that slots into the peduncle.
+
+Planform (in the vertical x-z plane; span along z, symmetric about z = 0; eta = 2 z / b in [-1, 1]):
+
+* span ``b = caudal_fin.span_mm``, area ``S = b^2 / caudal_fin.aspect_ratio``;
+* chord ``c(eta) = c_tip + (c_0 - c_tip) sqrt(1 - eta^2)`` (an elliptic distribution on a tip chord
+  ``c_tip = 3 min_thickness_mm``, so the tips stay printable). Its area is
+  ``S = b (c_tip + (c_0 - c_tip) pi / 4)``, hence ``c_0 = c_tip + (S / b - c_tip) 4 / pi``;
+* leading edge swept back by ``Lambda = caudal_fin.sweep_deg``: station of the leading edge
+  ``s_LE(eta) = s_root + |eta| (b / 2) tan(Lambda)``; trailing edge ``s_TE = s_LE + c``. Both edges are swept
+  back, the trailing edge concave: the crescent (lunate) shape.
+* The root trailing edge (the fork) sits at the fork length ``s = L``, i.e. ``s_root = L - c_0`` (interpretation
+  of body.length_mm as fork length); if that would put the root leading edge closer than
+  ``print.clearance_assembly_mm`` behind the hull end, the fin moves aft to ``hull_end + clearance``.
+
+Sections: NACA 00xx of thickness ``T = max(thickness_fraction c, min_thickness_mm)`` plus a linear ramp that
+brings the trailing edge to ``min_thickness_mm``: ``y(xi) = c yt(xi, T/c) + xi (t_min/2 - c yt(1, T/c))``.
+The sections are lofted (B-spline) through 2 K + 1 spanwise stations graded toward the tips
+(eta = sin(pi/2 k/K)), so planform area and span match the closed forms up to the loft's interpolation error.
+
+Mount: a rectangular root tang in the x-z plane (:func:`tang_dims_mm`, sized from the peduncle's end section so the
+hull does not depend on the planform) runs from 30 % of the root chord forward through the gap to the hull end
+and ``mount_length_mm`` into the peduncle's slot, where two cross screws (hull screws, one per hull half) hold it.
+The fin is rigid with the last link (index ``joints.count``).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import build123d as bd
+import numpy as np
+
+from cad import layout as L
+from cad.part import PartSpec
+from swiftfin.errors import BuildError
+from swiftfin.schema import Params
+
+SPAN_STATIONS_HALF = 8        # K: sections from root to each tip
+CHORD_POINTS = 25             # points per surface of a section
+
+
+@dataclass(frozen=True)
+class Planform:
+    span_mm: float
+    area_mm2: float
+    root_chord_mm: float
+    tip_chord_mm: float
+    sweep_rad: float
+    s_root_le_mm: float       # station of the root leading edge
+
+    def chord_mm(self, eta):
+        eta = np.clip(np.abs(np.asarray(eta, dtype=float)), 0.0, 1.0)
+        return self.tip_chord_mm + (self.root_chord_mm - self.tip_chord_mm) * np.sqrt(1.0 - eta**2)
+
+    def s_le_mm(self, eta):
+        return self.s_root_le_mm + np.abs(np.asarray(eta, dtype=float)) * self.span_mm / 2 * math.tan(self.sweep_rad)
+
+
+def planform(p: Params) -> Planform:
+    f = p.caudal_fin
+    b = f.span_mm
+    S = b * b / f.aspect_ratio
+    c_tip = 3 * f.min_thickness_mm
+    c0 = c_tip + (S / b - c_tip) * 4 / math.pi
+    if c0 <= c_tip:
+        raise BuildError(f"caudal_fin: root chord {c0:.1f} mm not above the tip chord {c_tip:.1f} mm "
+                         f"(span {b:g} mm, aspect ratio {f.aspect_ratio:g})")
+    s_root = max(p.body.length_mm - c0, L.hull_end_mm(p) + p.print.clearance_assembly_mm)
+    return Planform(b, S, c0, c_tip, math.radians(f.sweep_deg), s_root)
+
+
+@dataclass(frozen=True)
+class TangDims:
+    thickness_mm: float       # along y
+    height_mm: float          # along z
+    s_front_mm: float         # front end of the tang (inside the peduncle)
+    screw_station_mm: float
+    screw_z_mm: tuple
+
+
+def tang_dims_mm(p: Params) -> TangDims:
+    """The root tang and its screws, sized from the peduncle's end section only.
+
+    Thickness ``max(2 min_thickness_mm, w_end / 2)`` and height ``h_end`` (w_end, h_end: the hull's outer half-width
+    and half-height at the hull end), so the slot leaves at least half the end section as wall. It reads no
+    planform parameter: the hull (which cuts the slot) need not be rebuilt when the fin's span or shape
+    changes. Only its rear end (30 % of the root chord into the blade) depends on the planform.
+    """
+    f = p.caudal_fin
+    s_end = L.hull_end_mm(p)
+    w_end = float(L.naca_half_width_mm(p, s_end))
+    h_end = float(L.half_height_mm(p, s_end))
+    thick = max(2 * f.min_thickness_mm, 0.5 * w_end)
+    height = h_end
+    return TangDims(thick, height, s_end - f.mount_length_mm, s_end - f.mount_length_mm / 2,
+                    (height / 4, -height / 4))
+
+
+def tang_back_station_mm(p: Params) -> float:
+    """Rear end of the tang: 30 % of the root chord into the blade."""
+    pf = planform(p)
+    return pf.s_root_le_mm + 0.3 * pf.root_chord_mm
+
+
+def section_wire(p: Params, pf: Planform, eta: float) -> bd.Wire:
+    """Closed section at spanwise eta: spline over both surfaces (through the leading edge), line at the TE."""
+    f = p.caudal_fin
+    c = float(pf.chord_mm(eta))
+    T = max(f.thickness_fraction * c, f.min_thickness_mm)
+    xi = (1 - np.cos(np.linspace(0.0, math.pi, CHORD_POINTS))) / 2
+    te_ramp = f.min_thickness_mm / 2 - c * float(L.naca_half_thickness(1.0, T / c))
+    y = c * L.naca_half_thickness(xi, T / c) + xi * te_ramp
+    x = -(float(pf.s_le_mm(eta)) + xi * c)
+    z = eta * pf.span_mm / 2
+    upper = [(float(a), float(b), z) for a, b in zip(x[::-1], y[::-1])]
+    lower = [(float(a), float(-b), z) for a, b in zip(x[1:], y[1:])]
+    spline = bd.Edge.make_spline(upper + lower)
+    te = bd.Edge.make_line(spline.end_point(), spline.start_point())
+    return bd.Wire([spline, te])
+
+
+def blade_solid(p: Params) -> bd.Solid:
+    """The lofted lunate blade alone (no tang): the solid whose planform the closed forms describe."""
+    pf = planform(p)
+    K = SPAN_STATIONS_HALF
+    etas = [math.sin(math.pi / 2 * k / K) for k in range(K, 0, -1)]
+    etas = [-e for e in etas] + [0.0] + etas[::-1]
+    return bd.Solid.make_loft([section_wire(p, pf, e) for e in etas])
+
+
+def fin_solid(p: Params) -> bd.Solid:
+    """Blade + root tang - the two screw holes."""
+    blade = blade_solid(p)
+    td = tang_dims_mm(p)
+    s_back = tang_back_station_mm(p)
+    tang = bd.Solid.make_box(s_back - td.s_front_mm, td.thickness_mm, td.height_mm,
+                             bd.Plane(origin=(-s_back, -td.thickness_mm / 2, -td.height_mm / 2)))
+    r = p.hull.screw_diameter_mm / 2 + p.print.clearance_sliding_mm
+    holes = [bd.Solid.make_cylinder(r, 2 * td.thickness_mm,
+                                    bd.Plane(origin=(-td.screw_station_mm, -td.thickness_mm, z), z_dir=(0, 1, 0)))
+             for z in td.screw_z_mm]
+    body = blade.fuse(tang).clean().cut(*holes)
+    solids = body.solids()
+    if len(solids) != 1:
+        raise BuildError(f"caudal_fin: expected one solid, got {len(solids)}")
+    return solids[0]
+
+
+def make_caudal_fin(p: Params) -> list[PartSpec]:
+    """The caudal fin, label ``caudal_fin``, rigid with link ``joints.count``.
+
+    Printed lying on its side (rx = 90 deg: the thickness direction becomes vertical); the symmetric
+    sections need a little support or a brim under the lower surface.
+    """
+    pf = planform(p)
+    return [PartSpec("caudal_fin", fin_solid(p), p.joints.count, "fin", print_rotation=(90.0, 0.0, 0.0),
+                     meta={"span_mm": pf.span_mm, "area_mm2": pf.area_mm2, "root_chord_mm": pf.root_chord_mm})]

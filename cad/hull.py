@@ -1,0 +1,429 @@
+"""Hull segments: NACA 00xx body of elliptical sections, hollow, split at the joints, numbers first.
+
+Numbers: :func:`hull_section_semi_axes_mm` (outer ellipse at a station), :func:`nose_cap` (the rounded nose),
+:func:`hull_pieces` (segments of :func:`cad.layout.hull_segments`, split further to fit the printer bed).
+Solids: :func:`make_hull_segments`.
+
+Interpretations (body frame of :mod:`cad.layout`, mm):
+
+* **Outer surface**: ellipses of half-width ``w(s) = naca_half_width_mm(s)`` and half-height
+  ``body.height_to_width * w(s)``, lofted (B-spline through ``hull.loft_stations`` sections per printed
+  piece; stations graded toward the nose on the piece that carries it).
+* **Nose cap** (``s < s_c = body.nose_cap_fraction * L``): the profile is the arc of an ellipse through the
+  nose tip (0, 0) with a vertical tangent there that meets the NACA curve at s_c with the same value *and
+  slope* (tangent-continuous); the cap is that profile revolved and scaled by ``height_to_width`` in z, so
+  its sections are the same family of ellipses. With ``w_c = w(s_c)``, ``k = s_c w'(s_c) / w_c`` the ellipse
+  ``w = B sqrt(1 - ((A - s)/A)^2)`` has ``u = (A - s_c)/A = k / (1 - k)``, ``A = s_c / (1 - u)``,
+  ``B = w_c / sqrt(1 - u^2)`` (needs k < 1/2, true for NACA 00xx near the leading edge). The cap is solid.
+* **Wall**: the cavity is the lofted inner ellipse with both semi-axes reduced by ``hull.wall_thickness_mm``
+  (the same convention as :func:`cad.layout.interior_half_width_at_height_mm`). It stops
+  ``hull.bulkhead_thickness_mm`` short of every joint end, which leaves the bulkheads.
+* **Joint interfaces** (numbers from :func:`cad.link.joint_hardware`): the parent segment's rear bulkhead
+  carries the clevis: an upper and a lower lug reaching back to the joint axis with the pin bores, two stop
+  blocks on the lower lug, and clearance cuts where the link's sector, window column and stop tongue swing.
+  The child's front bulkhead carries the link's four bolt holes.
+* **Cable passages**: a hole of PTFE tube OD + 2 sliding clearance, along the route, wherever a route of
+  :func:`cad.layout.cable_routes` crosses the mid-plane of a bulkhead.
+* **Mount fixings**: clearance holes (hull screw + 2 sliding clearance) along the normal through the wall at
+  :func:`cad.layout.mount_fixings_mm`.
+* **Caudal fin**: the peduncle ends in a solid plug with a slot for the fin's root tang
+  (:func:`cad.fin.tang_dims_mm`) and two cross holes (one in each half) for the screws that hold it.
+* **Printer bed**: each printed part (a half when ``hull.split_halves``, printed cut face down; a whole
+  segment otherwise, printed standing on its end) must fit ``print.bed_*`` allowing a rotation about the
+  vertical. A segment that does not is cut at stations into 2, 3, ... equal pieces (cut stations moved
+  away from the mount fixings); the front piece carries an internal splice tab (one per half) that reaches
+  into the rear piece. A cross-section too large for the bed is refused with :class:`UserError`.
+* A design whose joint links cannot be built (:func:`cad.link.joint_link_problems`) is refused with
+  :class:`UserError` here too, since the clevis is made from the same numbers.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import build123d as bd
+import numpy as np
+
+from cad import layout as L
+from cad.fin import tang_dims_mm
+from cad.link import JointHardware, all_joint_hardware, box, isect, one_solid, pie, rod, vcyl
+from cad.part import PartSpec
+from swiftfin.errors import UserError
+from swiftfin.schema import Params
+
+SPLICE_LENGTH_MM = 10.0      # splice tab length on each side of a station cut
+SPLICE_WIDTH_MM = 14.0
+
+
+# ----------------------------------------------------------------------------------------------- numbers
+@dataclass(frozen=True)
+class NoseCap:
+    s_cap_mm: float   # cap ends (meets the NACA loft) here
+    a_mm: float       # ellipse semi-axis along the body axis; the ellipse centre is at s = a_mm
+    b_mm: float       # ellipse semi-axis across (half-width)
+
+
+def nose_cap(p: Params) -> NoseCap:
+    """The elliptic-arc nose profile tangent to the NACA curve at s_c (see the module docstring)."""
+    L_ = p.body.length_mm
+    sc = p.body.nose_cap_fraction * L_
+    t = p.body.naca_thickness_fraction
+    xi = sc / L_
+    w = float(L.naca_half_thickness(xi, t)) * L_
+    dw = 5 * t * (0.2969 / (2 * math.sqrt(xi)) - 0.1260 - 2 * 0.3516 * xi + 3 * 0.2843 * xi**2 - 4 * 0.1015 * xi**3)
+    k = sc * dw / w
+    if not 0 < k < 0.5:
+        raise UserError(f"body.nose_cap_fraction = {p.body.nose_cap_fraction}: no tangent elliptic nose cap "
+                        f"(slope ratio {k:.3f} not in (0, 0.5))")
+    u = k / (1 - k)
+    A = sc / (1 - u)
+    return NoseCap(sc, A, w / math.sqrt(1 - u * u))
+
+
+def hull_section_semi_axes_mm(p: Params, s_mm: float) -> tuple[float, float]:
+    """Outer half-width and half-height of the hull at station s [mm], nose cap included."""
+    cap = nose_cap(p)
+    if s_mm < cap.s_cap_mm:
+        v = (cap.a_mm - s_mm) / cap.a_mm
+        w = cap.b_mm * math.sqrt(max(0.0, 1 - v * v))
+    else:
+        w = float(L.naca_half_width_mm(p, s_mm))
+    return w, p.body.height_to_width * w
+
+
+@dataclass(frozen=True)
+class HullPiece:
+    """One printed hull piece (before the split into halves): stations, link and what its ends carry."""
+    name: str
+    s_start_mm: float
+    s_end_mm: float
+    link: int
+    nose: bool = False
+    tail: bool = False
+    front_joint: int | None = None      # child of this joint: front bulkhead with the link's bolts
+    rear_joint: int | None = None       # parent of this joint: rear bulkhead with the clevis
+    front_cut: bool = False             # station cut at the front (open end)
+    rear_cut: bool = False              # station cut at the rear (open end, splice tab)
+
+    def max_semi_axes_mm(self, p: Params) -> tuple[float, float]:
+        ss = np.linspace(self.s_start_mm, self.s_end_mm, 201)
+        w = max(hull_section_semi_axes_mm(p, float(s))[0] for s in ss)
+        return w, p.body.height_to_width * w
+
+
+def printed_size_mm(p: Params, piece: HullPiece) -> tuple[float, float, float]:
+    """Size (x, y, z) of the printed part(s) of a piece in print orientation."""
+    a, b = piece.max_semi_axes_mm(p)
+    length = piece.s_end_mm - piece.s_start_mm + (SPLICE_LENGTH_MM if piece.rear_cut else 0.0)
+    if p.hull.split_halves:
+        return length, 2 * a, b
+    return 2 * a, 2 * b, length
+
+
+def bed_rotation_deg(p: Params, size: tuple[float, float, float]) -> float | None:
+    """Rotation about the vertical [deg] that fits a (dx, dy, dz) box on the bed, or None."""
+    dx, dy, dz = size
+    bx, by, bz = p.print.bed_x_mm, p.print.bed_y_mm, p.print.bed_z_mm
+    if dz > bz:
+        return None
+    for a in np.arange(0.0, 90.01, 0.5):
+        r = math.radians(a)
+        if dx * math.cos(r) + dy * math.sin(r) <= bx and dx * math.sin(r) + dy * math.cos(r) <= by:
+            return float(a)
+    return None
+
+
+def _split_stations(p: Params, seg: L.Segment, n: int) -> list[float]:
+    """n-1 cut stations, near equal spacing, moved away from mount fixings (screw + splice tab)."""
+    fix = [-f.point_mm[0] for f in L.mount_fixings_mm(p)]
+    keep = SPLICE_LENGTH_MM + p.hull.screw_diameter_mm + 3.0
+    out = []
+    for i in range(1, n):
+        s0 = seg.s_start_mm + i * (seg.s_end_mm - seg.s_start_mm) / n
+        best = s0
+        lo, hi = seg.s_start_mm + (i - 0.5) * (seg.s_end_mm - seg.s_start_mm) / n, \
+            seg.s_start_mm + (i + 0.5) * (seg.s_end_mm - seg.s_start_mm) / n
+        for d in np.arange(0.0, 40.0, 0.5):
+            cands = [c for c in (s0 + d, s0 - d) if lo < c < hi]
+            ok = [c for c in cands if all(abs(c - f) >= keep for f in fix)]
+            if ok:
+                best = ok[0]
+                break
+        out.append(float(best))
+    return out
+
+
+def hull_pieces(p: Params) -> tuple[HullPiece, ...]:
+    """The segments of :func:`cad.layout.hull_segments`, split at stations until each fits the bed.
+
+    Raises UserError naming the segment, its printed size and the bed when even its cross-section does not fit.
+    """
+    segs = L.hull_segments(p)
+    n_j = p.joints.count
+    bed = f"{p.print.bed_x_mm:g} x {p.print.bed_y_mm:g} x {p.print.bed_z_mm:g} mm"
+    out = []
+    for i, seg in enumerate(segs):
+        base = HullPiece(seg.name, seg.s_start_mm, seg.s_end_mm, seg.link, nose=(i == 0), tail=(i == len(segs) - 1),
+                         front_joint=seg.link if seg.link >= 1 else None,
+                         rear_joint=seg.link + 1 if seg.link + 1 <= n_j else None)
+        size = printed_size_mm(p, base)
+        if bed_rotation_deg(p, size) is not None:
+            out.append(base)
+            continue
+        for n in range(2, 13):
+            cuts = [seg.s_start_mm] + _split_stations(p, seg, n) + [seg.s_end_mm]
+            names = (["front", "rear"] if n == 2 else ["front", "mid", "rear"] if n == 3
+                     else [str(k + 1) for k in range(n)])
+            pieces = [HullPiece(f"{seg.name}_{names[k]}", cuts[k], cuts[k + 1], seg.link,
+                                nose=base.nose and k == 0, tail=base.tail and k == n - 1,
+                                front_joint=base.front_joint if k == 0 else None,
+                                rear_joint=base.rear_joint if k == n - 1 else None,
+                                front_cut=k > 0, rear_cut=k < n - 1) for k in range(n)]
+            if all(bed_rotation_deg(p, printed_size_mm(p, pc)) is not None for pc in pieces):
+                out += pieces
+                break
+        else:
+            sx, sy, sz = size
+            raise UserError(f"{seg.name}: printed size {sx:.0f} x {sy:.0f} x {sz:.0f} mm does not fit the print bed "
+                            f"{bed} even when cut into 12 pieces along its length (print.bed_x_mm, print.bed_y_mm, "
+                            f"print.bed_z_mm; or a smaller body.length_mm)")
+    return tuple(out)
+
+
+# ----------------------------------------------------------------------------------------------- solids
+def _ellipse_wire(s: float, a: float, b: float) -> bd.Wire:
+    pl = bd.Plane(origin=(-s, 0, 0), x_dir=(0, 1, 0), z_dir=(1, 0, 0))
+    return bd.Wire([bd.Edge.make_ellipse(a, b, pl)])
+
+
+def _stations(s0: float, s1: float, n: int, graded: bool) -> np.ndarray:
+    u = np.linspace(0.0, 1.0, max(n, 2))
+    return s0 + (s1 - s0) * (u**1.5 if graded else u)
+
+
+def _loft(p: Params, s0: float, s1: float, shrink: float = 0.0, graded: bool = False) -> bd.Solid:
+    """Loft of the hull ellipses between s0 and s1, both semi-axes reduced by ``shrink``."""
+    wires = []
+    for s in _stations(s0, s1, p.hull.loft_stations, graded):
+        a, b = hull_section_semi_axes_mm(p, float(s))
+        wires.append(_ellipse_wire(float(s), a - shrink, b - shrink))
+    return bd.Solid.make_loft(wires)
+
+
+def _nose_cap_solid(p: Params) -> bd.Solid:
+    cap = nose_cap(p)
+    sc = cap.s_cap_mm
+    phi = math.degrees(math.acos((cap.a_mm - sc) / cap.a_mm))
+    arc = bd.Edge.make_ellipse(cap.a_mm, cap.b_mm, bd.Plane.XY.offset(0).moved(bd.Location((-cap.a_mm, 0, 0))),
+                               0.0, phi)
+    w_c = hull_section_semi_axes_mm(p, sc)[0]
+    face = bd.Face(bd.Wire([arc, bd.Edge.make_line(arc.end_point(), (-sc, 0, 0)),
+                            bd.Edge.make_line((-sc, 0, 0), arc.start_point())]))
+    assert abs(arc.end_point().Y - w_c) < 1e-6 * max(1.0, w_c)
+    rev = bd.Solid.revolve(face, 360, bd.Axis.X)
+    return bd.scale(rev, (1.0, 1.0, p.body.height_to_width))
+
+
+def _outer(p: Params, pc: HullPiece) -> bd.Solid:
+    if not pc.nose:
+        return _loft(p, pc.s_start_mm, pc.s_end_mm)
+    sc = nose_cap(p).s_cap_mm
+    body = _loft(p, sc, pc.s_end_mm, graded=True)
+    cap = _nose_cap_solid(p)
+    return one_solid(body.fuse(cap).clean(), pc.name)
+
+
+def _bulkheads(p: Params, pc: HullPiece) -> list[tuple[float, float]]:
+    """(s_front, s_back) of each bulkhead of the piece."""
+    t = p.hull.bulkhead_thickness_mm
+    out = []
+    if pc.front_joint is not None:
+        out.append((pc.s_start_mm, pc.s_start_mm + t))
+    if pc.rear_joint is not None:
+        out.append((pc.s_end_mm - t, pc.s_end_mm))
+    return out
+
+
+def _cavity_range(p: Params, pc: HullPiece) -> tuple[float, float]:
+    t = p.hull.bulkhead_thickness_mm
+    if pc.nose:
+        s0 = nose_cap(p).s_cap_mm
+    elif pc.front_joint is not None:
+        s0 = pc.s_start_mm + t
+    else:
+        s0 = pc.s_start_mm - 1.0
+    if pc.tail:
+        s1 = pc.s_end_mm - p.caudal_fin.mount_length_mm - p.print.clearance_sliding_mm - t
+    elif pc.rear_joint is not None:
+        s1 = pc.s_end_mm - t
+    else:
+        s1 = pc.s_end_mm + 1.0
+    return s0, s1
+
+
+def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
+    """Holes where cable routes cross the mid-plane of a bulkhead of this piece."""
+    r = p.guides.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
+    length = p.hull.bulkhead_thickness_mm + 4.0
+    out = []
+    for sf, sb in _bulkheads(p, pc):
+        xm = -(sf + sb) / 2
+        for route in L.cable_routes(p):
+            pts = np.asarray(route.points_mm)
+            for a, b in zip(pts[:-1], pts[1:]):
+                if (a[0] - xm) * (b[0] - xm) < 0:
+                    f = (xm - a[0]) / (b[0] - a[0])
+                    q = a + f * (b - a)
+                    d = (b - a) / np.linalg.norm(b - a)
+                    start = q - d * length / 2 / abs(d[0])
+                    out.append(rod(tuple(start), tuple(d), r, length / abs(d[0])))
+    return out
+
+
+def _clevis_cut(h: JointHardware, p: Params) -> list[bd.Solid]:
+    """Room in the parent's rear end for the parts of the link that swing (sector, window column, tongue)."""
+    ca, cs = p.print.clearance_assembly_mm, p.print.clearance_sliding_mm
+    x = h.x_mm
+    sweep = h.tongue_half_deg + h.stop_deg + 1.0
+    out = [pie(x, h.tongue_radius_mm + ca, -sweep, sweep, h.z_knuckle_lo_mm - cs, h.z_window_lo_mm + 0.01),
+           vcyl(x, 0, h.knuckle_radius_mm + ca, h.z_knuckle_lo_mm - cs, h.z_sector_lo_mm + 0.01),
+           vcyl(x, 0, h.sector_radius_mm + ca, h.z_sector_lo_mm - cs, h.z_sector_hi_mm + cs)]
+    return out
+
+
+def _clevis_add(h: JointHardware, p: Params) -> list[bd.Solid]:
+    """Lugs and stop blocks on the parent's rear bulkhead."""
+    x = h.x_mm
+    cs = p.print.clearance_sliding_mm
+    x_front = x + h.gap_half_mm + p.hull.bulkhead_thickness_mm - 0.01
+    rl = h.lug_radius_mm
+    out = []
+    for z0, z1 in (h.lower_lug_mm, h.upper_lug_mm):
+        out += [box(x, x_front, -rl, rl, z0, z1), vcyl(x, 0, rl, z0, z1)]
+    lo = h.lower_lug_mm
+    a_out = h.tongue_half_deg + h.stop_deg + h.block_span_deg
+    out.append(pie(x, h.block_outer_radius_mm, -a_out, a_out, *lo))
+    for sgn in (1, -1):
+        a0 = h.tongue_half_deg + h.stop_deg
+        a_lo, a_hi = (a0, a0 + h.block_span_deg) if sgn > 0 else (-a0 - h.block_span_deg, -a0)
+        block = pie(x, h.block_outer_radius_mm, a_lo, a_hi, lo[1] - 0.01, h.z_window_lo_mm - cs)
+        block = block.cut(vcyl(x, 0, h.knuckle_radius_mm + cs, lo[1] - 1, h.z_window_lo_mm))
+        out.append(block)
+    return out
+
+
+def _clevis_bores(h: JointHardware) -> list[bd.Solid]:
+    x = h.x_mm
+    return [vcyl(x, 0, h.bore_radius_mm, z0 - 1, z1 + 1) for z0, z1 in (h.lower_lug_mm, h.upper_lug_mm)]
+
+
+def _bolt_holes(h: JointHardware, p: Params) -> list[bd.Solid]:
+    x0 = h.x_mm - h.gap_half_mm + 1.0
+    return [rod((x0, y, z), (-1, 0, 0), h.bolt_hole_diameter_mm / 2, p.hull.bulkhead_thickness_mm + 2.0)
+            for y, z in h.bolt_points_yz_mm]
+
+
+def _fixing_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
+    r = p.hull.screw_diameter_mm / 2 + p.print.clearance_sliding_mm
+    t = p.hull.wall_thickness_mm
+    out = []
+    for f in L.mount_fixings_mm(p):
+        if pc.s_start_mm < -f.point_mm[0] < pc.s_end_mm:
+            start = np.asarray(f.point_mm) - np.asarray(f.normal) * 1.0
+            out.append(rod(tuple(start), f.normal, r, 3 * t + 4.0))
+    return out
+
+
+def _tail_features(p: Params, pc: HullPiece) -> list[bd.Solid]:
+    """Slot for the fin's root tang and two cross holes for its screws."""
+    td = tang_dims_mm(p)
+    cs = p.print.clearance_sliding_mm
+    x_end = -pc.s_end_mm
+    depth = p.caudal_fin.mount_length_mm + cs
+    a, b = hull_section_semi_axes_mm(p, pc.s_end_mm - depth)
+    slot = box(x_end - 1.0, x_end + depth, -td.thickness_mm / 2 - cs, td.thickness_mm / 2 + cs,
+               -td.height_mm / 2 - cs, td.height_mm / 2 + cs)
+    xs = -td.screw_station_mm
+    holes = [rod((xs, -2 * a, z), (0, 1, 0), p.hull.screw_diameter_mm / 2 + cs, 4 * a) for z in td.screw_z_mm]
+    return [slot] + holes
+
+
+def _splice_tab(p: Params, pc: HullPiece, upper: bool) -> bd.Solid:
+    """Internal tab at the top (or bottom) of a station cut: fused to the front piece, a sliding fit inside
+    the rear piece's cavity, with a screw hole in the rear half."""
+    t, cs = p.hull.wall_thickness_mm, p.print.clearance_sliding_mm
+    s = pc.s_end_mm
+    lsp = SPLICE_LENGTH_MM
+    a, b = hull_section_semi_axes_mm(p, s)
+    zin = b - t
+    sg = 1 if upper else -1
+    w = min(SPLICE_WIDTH_MM / 2, 0.4 * (a - t))
+    z_lo, z_hi = sorted((sg * (zin - 3 * t), sg * (zin + 0.3 * t)))   # top inside the wall, not on a surface
+    front = isect(box(-s, -(s - lsp), -w, w, z_lo, z_hi), _loft(p, s - lsp - 1, s + 0.01, shrink=0.5 * t))
+    rear = isect(box(-(s + lsp), -s, -w, w, z_lo, z_hi), _loft(p, s - 0.01, s + lsp + 1, shrink=t + cs))
+    inner = _loft(p, s - lsp - 2, s + lsp + 2, shrink=2 * t + 0.5)
+    tab = front.fuse(rear).cut(inner)
+    return one_solid(tab, f"{pc.name} splice tab")
+
+
+def _splice_screw(p: Params, s_mm: float, upper: bool) -> bd.Solid:
+    a, b = hull_section_semi_axes_mm(p, s_mm + SPLICE_LENGTH_MM / 2)
+    x = -(s_mm + SPLICE_LENGTH_MM / 2)
+    r = p.hull.screw_diameter_mm / 2 + p.print.clearance_sliding_mm
+    return rod((x, 0, 0), (0, 0, 1 if upper else -1), r, b + 5)
+
+
+def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
+    """The whole piece (before the split into halves), as one solid."""
+    hw = {h.joint: h for h in all_joint_hardware(p)}
+    body = _outer(p, pc)
+    c0, c1 = _cavity_range(p, pc)
+    body = body.cut(_loft(p, c0, c1, shrink=p.hull.wall_thickness_mm))
+    adds, cuts = [], []
+    if pc.rear_joint is not None:
+        h = hw[pc.rear_joint]
+        body = body.cut(*_clevis_cut(h, p))
+        adds += _clevis_add(h, p)
+        cuts += _clevis_bores(h)
+    if pc.front_joint is not None:
+        cuts += _bolt_holes(hw[pc.front_joint], p)
+    if pc.rear_cut:
+        adds += [_splice_tab(p, pc, True), _splice_tab(p, pc, False)]
+    if pc.front_cut:
+        cuts += [_splice_screw(p, pc.s_start_mm, True), _splice_screw(p, pc.s_start_mm, False)]
+    if adds:
+        body = body.fuse(*adds).clean()
+    cuts += _cable_holes(p, pc) + _fixing_holes(p, pc)
+    if pc.tail:
+        cuts += _tail_features(p, pc)
+    if cuts:
+        body = body.cut(*cuts)
+    return one_solid(body, pc.name)
+
+
+def piece_parts(p: Params, pc: HullPiece) -> list[PartSpec]:
+    """The printed part(s) of one piece: its two halves, or the whole piece (see :func:`make_hull_segments`)."""
+    solid = piece_solid(p, pc)
+    meta = {"s_start_mm": pc.s_start_mm, "s_end_mm": pc.s_end_mm, "segment_of_link": pc.link}
+    rz = bed_rotation_deg(p, printed_size_mm(p, pc)) or 0.0
+    if not p.hull.split_halves:
+        return [PartSpec(pc.name, solid, pc.link, "hull", print_rotation=(0.0, -90.0, rz), meta=meta)]
+    a, b = pc.max_semi_axes_mm(p)
+    big = 4 * max(a, b) + 100
+    x0, x1 = -pc.s_end_mm - 50, -pc.s_start_mm + 50
+    up = one_solid(isect(solid, box(x0, x1, -big, big, 0.0, big)), f"{pc.name}_upper")
+    lo = one_solid(isect(solid, box(x0, x1, -big, big, -big, 0.0)), f"{pc.name}_lower")
+    return [PartSpec(f"{pc.name}_upper", up, pc.link, "hull", print_rotation=(0.0, 0.0, rz),
+                     meta=dict(meta, half="upper")),
+            PartSpec(f"{pc.name}_lower", lo, pc.link, "hull", print_rotation=(180.0, 0.0, rz),
+                     meta=dict(meta, half="lower"))]
+
+
+def make_hull_segments(p: Params) -> list[PartSpec]:
+    """Every printed hull part, in the body frame at rest (mm), nose to tail.
+
+    With ``hull.split_halves`` each piece gives ``<name>_upper`` (printed as it lies, cut face down) and
+    ``<name>_lower`` (rotated 180 deg about x, cut face down); otherwise the whole piece, printed standing on
+    its rear end (ry = -90 deg). A rotation about the vertical that makes it fit the bed is ``print_rotation[2]``.
+    """
+    return [ps for pc in hull_pieces(p) for ps in piece_parts(p, pc)]

@@ -1,0 +1,409 @@
+"""Hull segments: validity, the NACA profile measured on the B-rep, joint interfaces, bed fit, golden values."""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import build123d as bd
+import numpy as np
+import pytest
+from OCP.BRepGProp import BRepGProp
+from OCP.GProp import GProp_GProps
+
+from cad import layout as L
+from cad.fin import make_caudal_fin
+from cad.hull import (bed_rotation_deg, hull_pieces, hull_section_semi_axes_mm, make_hull_segments,
+                      nose_cap, piece_parts, piece_solid)
+from cad.link import joint_hardware, make_joint_links
+from swiftfin.errors import UserError
+from OCP.BRepAdaptor import BRepAdaptor_Surface
+from OCP.GeomAbs import GeomAbs_Cylinder
+from swiftfin.schema import Params
+
+GOLDEN = Path(__file__).parent / "golden"
+P = Params()   # the schema defaults are the default design (swiftfin.toml is generated from them)
+
+DEFAULT_LABELS = [f"{n}_{h}" for n in ("hull_head_front", "hull_head_rear", "hull_body_1", "hull_body_2",
+                                       "hull_body_3", "hull_peduncle") for h in ("upper", "lower")]
+
+
+def precise_volume_mm3(solid) -> float:
+    """B-rep volume by adaptive integration (eps 1e-6). ``Shape.volume`` uses a fixed-order rule that is off by
+    up to 0.5 % on these lofted B-spline solids; this agrees with an eps of 1e-8 to 1e-6 relative."""
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(solid.wrapped, props, 1e-6, False)
+    return props.Mass()
+
+
+def check_golden(label: str, solid, update: bool) -> None:
+    bb = solid.bounding_box()
+    now = {"volume_mm3": precise_volume_mm3(solid), "bbox_min_mm": list(bb.min), "bbox_max_mm": list(bb.max)}
+    path = GOLDEN / f"{label}.json"
+    if update:
+        path.write_text(json.dumps(now, indent=1) + "\n")
+        return
+    assert path.exists(), f"no golden file {path.name}: run pytest --update-golden on purpose"
+    ref = json.loads(path.read_text())
+    assert now["volume_mm3"] == pytest.approx(ref["volume_mm3"], rel=1e-6)
+    assert now["bbox_min_mm"] == pytest.approx(ref["bbox_min_mm"], abs=1e-4)
+    assert now["bbox_max_mm"] == pytest.approx(ref["bbox_max_mm"], abs=1e-4)
+
+
+@pytest.fixture(scope="session")
+def hull_parts():
+    return {ps.label: ps for ps in make_hull_segments(P)}
+
+
+@pytest.fixture(scope="session")
+def link_parts():
+    return {ps.label: ps for ps in make_joint_links(P)}
+
+
+def common_volume(a, b) -> float:
+    res = a.intersect(b)
+    if not res:
+        return 0.0
+    shapes = res if isinstance(res, (list, tuple)) else [res]
+    return sum(s.volume for sh in shapes for s in sh.solids())
+
+
+def slab_extent(solid, s_mm: float, half_thickness: float = 0.02):
+    """Bounding box of the solid's material in a thin slab round station s."""
+    cut = solid.intersect(bd.Solid.make_box(2 * half_thickness, 400, 400,
+                                            bd.Plane(origin=(-s_mm - half_thickness, -200, -200))))
+    return bd.Compound(list(cut)).bounding_box(optimal=True)
+
+
+# ----------------------------------------------------------------------------------------------- validity
+def test_default_labels_and_one_valid_solid_each(hull_parts):
+    assert sorted(hull_parts) == sorted(DEFAULT_LABELS)
+    for label, ps in hull_parts.items():
+        assert ps.family == "hull" and ps.printed
+        assert len(ps.solid.solids()) == 1, label
+        assert ps.solid.is_valid, label
+        assert ps.solid.volume > 1000.0, label
+
+
+def test_peduncle_halves_are_mirror_images(hull_parts):
+    """The peduncle has no feature that breaks the z -> -z symmetry (its link's bolts sit at +/- z too)."""
+    up, lo = hull_parts["hull_peduncle_upper"].solid, hull_parts["hull_peduncle_lower"].solid
+    assert precise_volume_mm3(up) == pytest.approx(precise_volume_mm3(lo), rel=1e-6)
+    bu, bl = up.bounding_box(), lo.bounding_box()
+    assert (bu.max.Z, bu.min.X, bu.max.Y) == pytest.approx((-bl.min.Z, bl.min.X, bl.max.Y), abs=1e-5)
+
+
+def test_halves_meet_at_z0_and_links_are_the_segments(hull_parts):
+    seg_link = {s.name: s.link for s in L.hull_segments(P)}
+    for label, ps in hull_parts.items():
+        bb = ps.solid.bounding_box()
+        if label.endswith("_upper"):
+            assert bb.min.Z == pytest.approx(0.0, abs=1e-5)
+        else:
+            assert bb.max.Z == pytest.approx(0.0, abs=1e-4)
+        seg = next(n for n in seg_link if label.startswith(n))
+        assert ps.link == seg_link[seg]
+
+
+# ----------------------------------------------------------------------------------------------- profile
+@pytest.mark.parametrize("s_mm", [40.0, 100.0, 160.0, 230.0, 300.0, 345.0, 380.0, 440.0])
+def test_half_width_and_height_on_the_brep_equal_the_naca_formula(hull_parts, s_mm):
+    """Outer half-width (max y) and half-height (max z) of a 0.04 mm slab of the upper half, against
+    y_t = 5 t (0.2969 sqrt(xi) - 0.1260 xi - 0.3516 xi^2 + 0.2843 xi^3 - 0.1015 xi^4) L written out here."""
+    piece = next(pc for pc in hull_pieces(P) if pc.s_start_mm + 1 < s_mm < pc.s_end_mm - 1)
+    solid = hull_parts[f"{piece.name}_upper"].solid
+    bb = slab_extent(solid, s_mm)
+    xi, t, length = s_mm / 520.0, 0.15, 520.0
+    yt = 5 * t * (0.2969 * math.sqrt(xi) - 0.1260 * xi - 0.3516 * xi**2 + 0.2843 * xi**3 - 0.1015 * xi**4) * length
+    tol = 0.1   # loft (B-spline through hull.loft_stations sections) + bounding-box tolerance
+    assert bb.max.Y == pytest.approx(yt, abs=tol)
+    assert -bb.min.Y == pytest.approx(yt, abs=tol)
+    assert bb.max.Z == pytest.approx(1.5 * yt, abs=1.5 * tol)
+
+
+def test_nose_cap_is_tangent_to_the_naca_curve_and_measured_on_the_solid(hull_parts):
+    cap = nose_cap(P)
+    sc = cap.s_cap_mm
+    assert sc == pytest.approx(0.03 * 520)
+    h = 1e-4
+    w = lambda s: hull_section_semi_axes_mm(P, s)[0]   # noqa: E731
+    naca = lambda s: float(L.naca_half_width_mm(P, s))  # noqa: E731
+    assert w(sc - 1e-9) == pytest.approx(naca(sc), rel=1e-6)                         # value
+    assert (w(sc - h) - w(sc - 2 * h)) / h == pytest.approx((naca(sc + 2 * h) - naca(sc + h)) / h, rel=2e-3)  # slope
+    assert w(0.0) == 0.0
+    # on the B-rep: the tip is at x = 0 and the cap's half-width at s_c / 2 is the ellipse's
+    solid = hull_parts["hull_head_front_upper"].solid
+    assert solid.bounding_box().max.X == pytest.approx(0.0, abs=1e-5)
+    bb = slab_extent(solid, sc / 2)
+    v = (cap.a_mm - sc / 2) / cap.a_mm
+    assert bb.max.Y == pytest.approx(cap.b_mm * math.sqrt(1 - v * v), abs=0.02)
+    assert bb.max.Z == pytest.approx(1.5 * cap.b_mm * math.sqrt(1 - v * v), abs=0.03)
+
+
+def test_wall_thickness_in_mid_segment(hull_parts):
+    """Half of a slab at s = 100 mm, measured at y > 0 only: material between the inner and outer ellipse."""
+    solid = hull_parts["hull_head_front_upper"].solid
+    a, b = hull_section_semi_axes_mm(P, 100.0)
+    t = P.hull.wall_thickness_mm
+    inside = lambda y, z: solid.is_inside(bd.Vector(-100.0, y, z))  # noqa: E731
+    assert inside(a - t / 2, 0.5)
+    assert not inside(a - t - 0.3, 0.5)
+    assert not inside(a + 0.3, 0.5)
+    assert inside(0.0, b - t / 2)
+    assert not inside(0.0, b - t - 0.3)
+
+
+# ----------------------------------------------------------------------------------------------- features
+def _part_at(hull_parts, s_mm: float, z: float):
+    piece = next(pc for pc in hull_pieces(P) if pc.s_start_mm <= s_mm <= pc.s_end_mm)
+    return hull_parts[f"{piece.name}_{'upper' if z > 0 else 'lower'}"].solid, piece
+
+
+def test_cable_passages_where_routes_cross_bulkheads(hull_parts):
+    """At every crossing of a route with a bulkhead mid-plane the hull is open."""
+    tb = P.hull.bulkhead_thickness_mm
+    n_cross = 0
+    for pc in hull_pieces(P):
+        planes = []
+        if pc.front_joint is not None:
+            planes.append(pc.s_start_mm + tb / 2)
+        if pc.rear_joint is not None:
+            planes.append(pc.s_end_mm - tb / 2)
+        for sm in planes:
+            for route in L.cable_routes(P):
+                pts = np.asarray(route.points_mm)
+                for a, b in zip(pts[:-1], pts[1:]):
+                    if (a[0] + sm) * (b[0] + sm) < 0:
+                        q = a + (-sm - a[0]) / (b[0] - a[0]) * (b - a)
+                        solid = hull_parts[f"{pc.name}_{'upper' if q[2] > 0 else 'lower'}"].solid
+                        assert not solid.is_inside(bd.Vector(*q)), (pc.name, route.joint, route.side)
+                        n_cross += 1
+    # the count, worked by hand: a rear bulkhead is crossed by its joint's own cables (on their way to the
+    # tangent point) and those of the joints behind; a front bulkhead only by those behind:
+    # head rear 8, body_1 front 6 and rear 6, body_2 front 4 and rear 4, body_3 front 2 and rear 2 = 32
+    assert n_cross == 32
+
+
+def test_mount_fixing_holes_go_through_the_wall(hull_parts):
+    t = P.hull.wall_thickness_mm
+    fixings = L.mount_fixings_mm(P)
+    assert len(fixings) == 2 * P.joints.count
+    for f in fixings:
+        solid, _ = _part_at(hull_parts, -f.point_mm[0], f.point_mm[2])
+        p0, n = np.asarray(f.point_mm), np.asarray(f.normal)
+        for depth in (0.2, t / 2, t - 0.2):
+            assert not solid.is_inside(bd.Vector(*(p0 + depth * n))), f.part
+        # 5 mm along the body axis the wall is whole
+        assert solid.is_inside(bd.Vector(*(p0 + t / 2 * n + np.array([5.0, 0, 0])))), f.part
+
+
+def test_bolt_holes_of_each_link_in_the_childs_front_bulkhead(hull_parts):
+    tb = P.hull.bulkhead_thickness_mm
+    for j in range(1, P.joints.count + 1):
+        h = joint_hardware(P, j)
+        x = h.x_mm - h.gap_half_mm - tb / 2
+        for y, z in h.bolt_points_yz_mm:
+            solid, pc = _part_at(hull_parts, -x, z)
+            assert pc.front_joint == j
+            assert not solid.is_inside(bd.Vector(x, y, z))
+            r = h.bolt_hole_diameter_mm / 2
+            assert solid.is_inside(bd.Vector(x, y + math.copysign(r + 0.8, y), z))   # bulkhead round the hole
+
+
+def test_clevis_leaves_the_hinge_line_window_open(hull_parts):
+    """The cables of the joints behind cross each hinge line on the axis at their levels: the parent has no
+    material there, nor 1 mm ahead of the axis, at any of those levels."""
+    for j in range(1, P.joints.count + 1):
+        h = joint_hardware(P, j)
+        parent = next(pc for pc in hull_pieces(P) if pc.rear_joint == j)
+        for z in h.crossing_levels_mm:
+            solid = hull_parts[f"{parent.name}_{'upper' if z > 0 else 'lower'}"].solid
+            for dx in (0.0, 1.0, h.gap_half_mm - 0.1):
+                assert not solid.is_inside(bd.Vector(h.x_mm + dx, 0.0, z)), (j, z, dx)
+        # and the lugs that hold the pins are above and below all of the link's levels
+        assert h.lower_lug_mm[1] < min(h.crossing_levels_mm + h.own_levels_mm) - h.pitch_mm / 2
+        assert h.upper_lug_mm[0] > max(h.own_levels_mm) + h.pitch_mm / 2
+
+
+def _bore_axes(solid, radius: float):
+    """(position, direction) of every cylindrical face of the given radius, read from the B-rep surfaces."""
+    out = []
+    for f in solid.faces():
+        ad = BRepAdaptor_Surface(f.wrapped)
+        if ad.GetType() == GeomAbs_Cylinder and abs(ad.Cylinder().Radius() - radius) < 1e-6:
+            ax = ad.Cylinder().Axis()
+            loc, d = ax.Location(), ax.Direction()
+            out.append((bd.Vector(loc.X(), loc.Y(), loc.Z()), bd.Vector(d.X(), d.Y(), d.Z())))
+    return out
+
+
+@pytest.mark.parametrize("j", [1, 2, 3, 4])
+def test_pin_bores_coaxial_between_clevis_and_link(hull_parts, link_parts, j):
+    h = joint_hardware(P, j)
+    parent = next(pc for pc in hull_pieces(P) if pc.rear_joint == j)
+    solids = {"upper lug": hull_parts[f"{parent.name}_upper"].solid,
+              "lower lug": hull_parts[f"{parent.name}_lower"].solid,
+              "link": link_parts[f"joint_link_{j}"].solid}
+    for what, solid in solids.items():
+        axes = _bore_axes(solid, h.bore_radius_mm)
+        assert axes, f"joint {j}: no bore of radius {h.bore_radius_mm} in the {what}"
+        for pos, d in axes:
+            assert abs(d.Z) == pytest.approx(1.0, abs=1e-9)
+            assert (pos.X, pos.Y) == pytest.approx((h.x_mm, 0.0), abs=1e-6), what
+    # the bores of lug and link are open along the axis at the lug and knuckle heights
+    for z in (sum(h.lower_lug_mm) / 2, sum(h.upper_lug_mm) / 2):
+        pt = bd.Vector(h.x_mm, 0, z)
+        assert not solids["upper lug"].is_inside(pt) and not solids["lower lug"].is_inside(pt)
+        assert solids["lower lug" if z < 0 else "upper lug"].is_inside(bd.Vector(h.x_mm + h.bore_radius_mm + 0.5, 0, z))
+
+
+@pytest.fixture(scope="session")
+def clevis_zones(hull_parts):
+    """Each parent's halves clipped to 25 mm round the joint axis (keeps the booleans of the stop test small)."""
+    out = {}
+    for j in range(1, P.joints.count + 1):
+        h = joint_hardware(P, j)
+        parent = next(pc for pc in hull_pieces(P) if pc.rear_joint == j)
+        clip = bd.Solid.make_box(50, 200, 200, bd.Plane(origin=(h.x_mm - 25, -100, -100)))
+        out[j] = tuple(bd.Compound([s for sh in hull_parts[f"{parent.name}_{half}"].solid.intersect(clip)
+                                    for s in sh.solids()]) for half in ("upper", "lower"))
+    return out
+
+
+def _rotated(solid, h, deg: float):
+    return solid.rotate(bd.Axis((h.x_mm, 0, 0), (0, 0, 1)), deg)
+
+
+@pytest.mark.parametrize("j", [1, 2, 3, 4])
+def test_hard_stops_engage_at_the_stop_angle(clevis_zones, link_parts, j):
+    """Turned 0.5 deg short of the stop angle the link clears its parent; 1.5 deg beyond it the tongue is
+    in the stop block (and in nothing else: the interference is in the block's height range)."""
+    h = joint_hardware(P, j)
+    th = math.degrees(L.joint_stop_angles_rad(P)[j - 1])
+    assert h.stop_deg == pytest.approx(th)
+    upper, lower = clevis_zones[j]
+    link = link_parts[f"joint_link_{j}"].solid
+    assert common_volume(link, lower) + common_volume(link, upper) < 1e-3
+    for sgn in (1, -1):
+        free = _rotated(link, h, sgn * (th - 0.5))
+        assert common_volume(free, lower) < 1e-3
+        assert common_volume(free, upper) < 1e-3
+        hit = _rotated(link, h, sgn * (th + 1.5))
+        v = common_volume(hit, lower)
+        assert v > 0.05
+        zone = hit.intersect(lower)
+        bb = bd.Compound([s for sh in zone for s in sh.solids()]).bounding_box()
+        assert bb.min.Z >= h.z_knuckle_lo_mm - 1e-3 and bb.max.Z <= h.z_window_lo_mm + 1e-3
+
+
+def test_link_flange_seats_on_the_child_without_interference(hull_parts, link_parts):
+    for j in range(1, P.joints.count + 1):
+        child = next(pc for pc in hull_pieces(P) if pc.front_joint == j)
+        link = link_parts[f"joint_link_{j}"].solid
+        for half in ("upper", "lower"):
+            assert common_volume(link, hull_parts[f"{child.name}_{half}"].solid) < 1e-3
+        assert link.bounding_box().min.X == pytest.approx(-child.s_start_mm, abs=1e-5)
+
+
+def test_fin_tang_fits_the_peduncle_slot(hull_parts):
+    fin = make_caudal_fin(P)[0].solid
+    for half in ("upper", "lower"):
+        ped = hull_parts[f"hull_peduncle_{half}"].solid
+        assert common_volume(fin, ped) < 1e-3
+    # the tang reaches mount_length_mm into the peduncle
+    assert fin.bounding_box().max.X == pytest.approx(-(L.hull_end_mm(P) - P.caudal_fin.mount_length_mm), abs=1e-4)
+
+
+def test_peduncle_does_not_depend_on_the_fin_planform():
+    """Changing the fin's span, aspect ratio or sweep must not change the hull (the rebuild cache then keeps it):
+    the slot is sized from the peduncle's end section only."""
+    other = dataclasses.replace(P, caudal_fin=dataclasses.replace(P.caudal_fin, span_mm=250.0, aspect_ratio=3.0,
+                                                                  sweep_deg=10.0, thickness_fraction=0.2))
+    pc = next(pc for pc in hull_pieces(P) if pc.tail)
+    a, b = piece_solid(P, pc), piece_solid(other, pc)
+    assert precise_volume_mm3(a) == pytest.approx(precise_volume_mm3(b), rel=1e-12)
+
+
+# ----------------------------------------------------------------------------------------------- printer bed
+def test_every_part_fits_the_bed_in_its_print_orientation(hull_parts):
+    for label, ps in hull_parts.items():
+        rx, ry, rz = ps.print_rotation
+        s = ps.solid.rotate(bd.Axis.X, rx).rotate(bd.Axis.Y, ry).rotate(bd.Axis.Z, rz)
+        bb = s.bounding_box()
+        assert bb.size.X <= P.print.bed_x_mm + 1e-6, label
+        assert bb.size.Y <= P.print.bed_y_mm + 1e-6, label
+        assert bb.size.Z <= P.print.bed_z_mm + 1e-6, label
+        # the cut face is down: the lowest layer is the flat z = 0 face of the half
+        assert ps.print_rotation[0] == (0.0 if label.endswith("_upper") else 180.0)
+
+
+def test_head_is_split_because_it_is_longer_than_the_bed():
+    # 275 mm head, 66 mm wide: no rotation in a 250 x 210 bed fits it (checked by hand at 0, 30, 42, 45 deg)
+    assert bed_rotation_deg(P, (275.0, 66.3, 50.0)) is None
+    names = [pc.name for pc in hull_pieces(P)]
+    assert names[:2] == ["hull_head_front", "hull_head_rear"]
+    big = dataclasses.replace(P, print=dataclasses.replace(P.print, bed_x_mm=300.0))
+    assert [pc.name for pc in hull_pieces(big)][0] == "hull_head"
+
+
+def test_rotation_on_the_bed_is_used_when_it_helps():
+    # 260 x 20 fits diagonally in 250 x 210: at 20 deg, 260 cos + 20 sin = 251; at 25 deg 244 <= 250, 128 <= 210
+    a = bed_rotation_deg(P, (260.0, 20.0, 10.0))
+    assert a is not None and 0 < a <= 30
+    r = math.radians(a)
+    assert 260 * math.cos(r) + 20 * math.sin(r) <= 250 and 260 * math.sin(r) + 20 * math.cos(r) <= 210
+
+
+def test_segment_that_cannot_fit_is_refused_with_a_clear_message():
+    tiny = dataclasses.replace(P, print=dataclasses.replace(P.print, bed_x_mm=60.0, bed_y_mm=60.0))
+    with pytest.raises(UserError) as err:
+        hull_pieces(tiny)
+    msg = str(err.value)
+    assert "hull_head" in msg and "60 x 60 x 220 mm" in msg and "does not fit" in msg
+
+
+# ----------------------------------------------------------------------------------------------- golden
+@pytest.mark.parametrize("label", DEFAULT_LABELS)
+def test_golden(hull_parts, label, update_golden):
+    check_golden(label, hull_parts[label].solid, update_golden)
+
+
+# ----------------------------------------------------------------------------------------------- other designs
+def _three_joints() -> Params:
+    return dataclasses.replace(P, joints=dataclasses.replace(P.joints, count=3, stations_fraction=(0.55, 0.64, 0.74)))
+
+
+def test_three_joint_design_builds_valid_hull_pieces():
+    p = _three_joints()
+    assert L.layout_problems(p) == []
+    pieces = hull_pieces(p)
+    assert [pc.name for pc in pieces] == ["hull_head_front", "hull_head_rear", "hull_body_1", "hull_body_2",
+                                          "hull_peduncle"]
+    for pc in pieces[2:]:      # the head does not depend on the joint count except at its rear
+        s = piece_solid(p, pc)
+        assert s.is_valid and len(s.solids()) == 1, pc.name
+
+
+@pytest.mark.slow
+def test_longer_body_builds_valid_parts():
+    p = dataclasses.replace(P, body=dataclasses.replace(P.body, length_mm=700.0))
+    assert L.layout_problems(p) == []
+    parts = make_hull_segments(p)
+    assert any(ps.label.startswith("hull_head_") for ps in parts)
+    for ps in parts:
+        assert ps.solid.is_valid and len(ps.solid.solids()) == 1, ps.label
+        bb = ps.solid.rotate(bd.Axis.X, ps.print_rotation[0]).rotate(bd.Axis.Z, ps.print_rotation[2]).bounding_box()
+        assert bb.size.X <= p.print.bed_x_mm + 1e-6 and bb.size.Y <= p.print.bed_y_mm + 1e-6, ps.label
+
+
+def test_unsplit_segments_stand_on_their_end():
+    p = dataclasses.replace(P, hull=dataclasses.replace(P.hull, split_halves=False))
+    pc = next(pc for pc in hull_pieces(p) if pc.name == "hull_body_2")
+    parts = piece_parts(p, pc)
+    assert len(parts) == 1 and parts[0].label == "hull_body_2"
+    assert parts[0].solid.is_valid and len(parts[0].solid.solids()) == 1
+    assert parts[0].print_rotation[:2] == (0.0, -90.0)
+    bb = parts[0].solid.rotate(bd.Axis.Y, -90.0).bounding_box()
+    h3 = joint_hardware(p, 3)   # the clevis lugs reach back to joint 3's axis plus the lug radius
+    assert bb.size.Z == pytest.approx(-h3.x_mm + h3.lug_radius_mm - pc.s_start_mm, abs=1e-3)

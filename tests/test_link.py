@@ -1,0 +1,196 @@
+"""Joint links: validity, moment arm measured on the solid, grooves, pass-through holes, stops, golden values."""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import build123d as bd
+import numpy as np
+import pytest
+from OCP.BRepGProp import BRepGProp
+from OCP.GProp import GProp_GProps
+from OCP.BRepAdaptor import BRepAdaptor_Surface
+from OCP.GeomAbs import GeomAbs_Torus
+
+from cad import layout as L
+from cad.link import joint_hardware, joint_link_problems, make_joint_links
+from swiftfin.errors import UserError
+from swiftfin.schema import Params
+
+GOLDEN = Path(__file__).parent / "golden"
+P = Params()
+
+
+def precise_volume_mm3(solid) -> float:
+    """B-rep volume by adaptive integration (eps 1e-6). ``Shape.volume`` uses a fixed-order rule that is off by
+    up to 0.5 % on these lofted B-spline solids; this agrees with an eps of 1e-8 to 1e-6 relative."""
+    props = GProp_GProps()
+    BRepGProp.VolumeProperties_s(solid.wrapped, props, 1e-6, False)
+    return props.Mass()
+
+
+def check_golden(label: str, solid, update: bool) -> None:
+    bb = solid.bounding_box()
+    now = {"volume_mm3": precise_volume_mm3(solid), "bbox_min_mm": list(bb.min), "bbox_max_mm": list(bb.max)}
+    path = GOLDEN / f"{label}.json"
+    if update:
+        path.write_text(json.dumps(now, indent=1) + "\n")
+        return
+    assert path.exists(), f"no golden file {path.name}: run pytest --update-golden on purpose"
+    ref = json.loads(path.read_text())
+    assert now["volume_mm3"] == pytest.approx(ref["volume_mm3"], rel=1e-6)
+    assert now["bbox_min_mm"] == pytest.approx(ref["bbox_min_mm"], abs=1e-4)
+    assert now["bbox_max_mm"] == pytest.approx(ref["bbox_max_mm"], abs=1e-4)
+
+
+@pytest.fixture(scope="session")
+def links():
+    return {ps.label: ps for ps in make_joint_links(P)}
+
+
+LABELS = [f"joint_link_{j}" for j in range(1, 5)]
+JOINTS = [1, 2, 3, 4]
+
+
+def test_one_valid_solid_per_joint(links):
+    assert sorted(links) == LABELS
+    for j in JOINTS:
+        ps = links[f"joint_link_{j}"]
+        assert ps.link == j and ps.family == "link" and ps.printed
+        assert len(ps.solid.solids()) == 1 and ps.solid.is_valid
+
+
+def _edge_radius(solid, x0: float, z: float, angle_deg: float, r_in: float, r_out: float) -> float:
+    """Bisect along the horizontal ray from the joint axis at height z: the radius where material ends."""
+    a = math.radians(angle_deg)
+    inside = lambda r: solid.is_inside(bd.Vector(x0 + r * math.cos(a), r * math.sin(a), z))  # noqa: E731
+    assert inside(r_in) and not inside(r_out)
+    for _ in range(40):
+        mid = (r_in + r_out) / 2
+        r_in, r_out = (mid, r_out) if inside(mid) else (r_in, mid)
+    return (r_in + r_out) / 2
+
+
+@pytest.mark.parametrize("j", JOINTS)
+def test_moment_arm_measured_on_the_solid(links, j):
+    """Groove root radius, found by bisection on the B-rep, + cable radius == tendon_moment_arm_mm;
+    beside the groove the sector reaches its full radius (the groove is a groove)."""
+    h = joint_hardware(P, j)
+    solid = links[f"joint_link_{j}"].solid
+    m, dc = P.joints.tendon_moment_arm_mm, P.cable.diameter_mm
+    for side, z in ((1, h.own_levels_mm[0]), (-1, h.own_levels_mm[1])):
+        ang = side * (h.groove_start_deg + h.anchor_deg) / 2
+        root = _edge_radius(solid, h.x_mm, z, ang, m - 3 * dc, m + 3 * dc)
+        assert root + dc / 2 == pytest.approx(m, abs=1e-6)
+        # 0.5 mm above the groove's top edge the sector is whole out to its rim
+        rim = _edge_radius(solid, h.x_mm, z + h.groove_minor_mm + 0.5, ang, m - 3 * dc, m + 3 * dc)
+        assert rim == pytest.approx(h.sector_radius_mm, abs=1e-6)
+        assert rim - root > 0.8 * dc    # a cable sits 80 % of its diameter deep
+
+
+@pytest.mark.parametrize("j", JOINTS)
+def test_groove_tori_centred_on_the_joint_axis(links, j):
+    h = joint_hardware(P, j)
+    tori = []
+    for f in links[f"joint_link_{j}"].solid.faces():
+        ad = BRepAdaptor_Surface(f.wrapped)
+        if ad.GetType() == GeomAbs_Torus:
+            t = ad.Torus()
+            loc, d = t.Location(), t.Axis().Direction()
+            tori.append((t.MajorRadius(), t.MinorRadius(), loc.X(), loc.Y(), loc.Z(), abs(d.Z())))
+    assert sorted({round(t[4], 6) for t in tori}) == sorted(round(z, 6) for z in h.own_levels_mm)
+    for R, r, x, y, _, dz in tori:
+        m, dc = P.joints.tendon_moment_arm_mm, P.cable.diameter_mm
+        assert R - r + dc / 2 == pytest.approx(m, abs=1e-9)           # root + cable radius = moment arm
+        assert (x, y, dz) == pytest.approx((h.x_mm, 0.0, 1.0), abs=1e-9)
+
+
+@pytest.mark.parametrize("j", JOINTS)
+def test_groove_wraps_from_the_route_tangent_point_past_the_stop(links, j):
+    """The route's last point (tangent to the sector) lies in the groove; so does the point the cable
+    reaches when the joint turns by the stop angle either way; the anchor hole is open."""
+    h = joint_hardware(P, j)
+    solid = links[f"joint_link_{j}"].solid
+    th = L.joint_stop_angles_rad(P)[j - 1]
+    for route in L.cable_routes(P):
+        if route.joint != j - 1:
+            continue
+        tx, ty, tz = route.points_mm[-1]
+        a = math.atan2(ty, tx - h.x_mm)
+        m = P.joints.tendon_moment_arm_mm
+        for turn in (-th, 0.0, th):
+            q = bd.Vector(h.x_mm + m * math.cos(a + turn), m * math.sin(a + turn), tz)
+            assert not solid.is_inside(q), (j, route.side, turn)
+            root = bd.Vector(h.x_mm + (m - 0.8) * math.cos(a + turn), (m - 0.8) * math.sin(a + turn), tz)
+            assert solid.is_inside(root), (j, route.side, turn)
+        aa = math.radians(route.side * h.anchor_deg)
+        ra = h.anchor_radius_mm
+        assert not solid.is_inside(bd.Vector(h.x_mm + ra * math.cos(aa), ra * math.sin(aa), h.z_sector_hi_mm - 0.5))
+        assert math.degrees(abs(aa) - abs(a)) >= math.degrees(th) + 3.0
+
+
+@pytest.mark.parametrize("j", JOINTS)
+def test_pass_through_holes_for_the_joints_behind(links, j):
+    h = joint_hardware(P, j)
+    solid = links[f"joint_link_{j}"].solid
+    expected = sorted(L.tendon_level_mm(P, k, s) for k in range(j, P.joints.count) for s in (1, -1))
+    assert list(h.crossing_levels_mm) == pytest.approx(expected)
+    for z in expected:
+        for dx in (-1.0, -h.gap_half_mm + 0.5, 0.0, 1.0):
+            assert not solid.is_inside(bd.Vector(h.x_mm + dx, 0.0, z)), (j, z, dx)
+        # the flare: the incoming cable at the stop angle ahead of the axis is clear too
+        a = math.radians(h.stop_deg)
+        assert not solid.is_inside(bd.Vector(h.x_mm + 3 * math.cos(a), 3 * math.sin(a), z))
+        # behind the axis the hole is straight: the arm is solid 1 mm outside its radius
+        assert solid.is_inside(bd.Vector(h.x_mm - 2.0, h.hole_diameter_mm / 2 + 1.0, z))
+
+
+def test_stop_geometry_numbers_agree_with_the_wave_model():
+    for j in JOINTS:
+        h = joint_hardware(P, j)
+        th_max = math.degrees(L.joint_max_angles_rad(P)[j - 1])
+        assert h.stop_deg == pytest.approx(th_max + P.joints.stop_margin_deg, rel=1e-12)
+        # the tongue's faces at +/- beta reach the blocks' faces at +/- (beta + stop) (checked on solids
+        # in tests/test_hull.py::test_hard_stops_engage_at_the_stop_angle)
+        assert h.tongue_half_deg + h.stop_deg + h.block_span_deg <= 180.0
+
+
+def test_unbuildable_link_is_refused_with_every_problem_named():
+    """Two joints at 0.58 and 0.72 L: joint 2 needs a 43 deg stop, its 18 mm gap leaves no room to wrap the
+    groove that far before the child's bulkhead. The layout accepts it; the link refuses it clearly."""
+    p = dataclasses.replace(P, joints=dataclasses.replace(P.joints, count=2, stations_fraction=(0.58, 0.72)))
+    assert L.layout_problems(p) == []
+    problems = joint_link_problems(p)
+    assert [pr.key for pr in problems] == ["joints.tendon_moment_arm_mm"]
+    with pytest.raises(UserError) as err:
+        make_joint_links(p)
+    msg = str(err.value)
+    assert "joint 2" in msg and "stop angle (43." in msg and "joints.tendon_moment_arm_mm = 15.0" in msg
+    # and with the smaller moment arm it suggests, it builds
+    ok = dataclasses.replace(p, joints=dataclasses.replace(p.joints, tendon_moment_arm_mm=12.0))
+    assert L.layout_problems(ok) == [] and joint_link_problems(ok) == []
+    assert all(ps.solid.is_valid for ps in make_joint_links(ok))
+
+
+@pytest.mark.parametrize("label", LABELS)
+def test_golden(links, label, update_golden):
+    check_golden(label, links[label].solid, update_golden)
+
+
+def test_other_designs_build_valid_links():
+    three = dataclasses.replace(P, joints=dataclasses.replace(P.joints, count=3, stations_fraction=(0.55, 0.64, 0.74)))
+    arm = dataclasses.replace(P, joints=dataclasses.replace(P.joints, tendon_moment_arm_mm=12.0, pin_diameter_mm=4.0))
+    for p in (three, arm):
+        assert L.layout_problems(p) == []
+        parts = make_joint_links(p)
+        assert [ps.label for ps in parts] == [f"joint_link_{j}" for j in range(1, p.joints.count + 1)]
+        for ps in parts:
+            assert ps.solid.is_valid and len(ps.solid.solids()) == 1, ps.label
+            h = joint_hardware(p, ps.link)
+            z = h.own_levels_mm[0]
+            ang = (h.groove_start_deg + h.anchor_deg) / 2
+            root = _edge_radius(ps.solid, h.x_mm, z, ang, 2 * h.knuckle_radius_mm, h.sector_radius_mm + 2)
+            assert root + p.cable.diameter_mm / 2 == pytest.approx(p.joints.tendon_moment_arm_mm, abs=1e-6)
+    assert np.isfinite(joint_hardware(three, 3).x_mm)
