@@ -108,7 +108,7 @@ class Motor:
 
 @dataclass(frozen=True)
 class Spool:
-    drum_diameter_mm: float = p(20.0, 4.0, 100.0, "Capstan drum diameter at the groove root",
+    drum_diameter_mm: float = p(20.0, 4.0, 100.0, "Capstan drum diameter at the cable's centre line (2 r_spool)",
                                 f"{PAPER} Table 2 (20 mm)")
     wraps: float = p(2.0, 0.5, 10.0, "Cable wraps on the drum (wrap angle / 2 pi)", f"{PAPER} Table 2 (4 pi rad)")
     groove_margin_turns: float = p(0.5, 0.0, 5.0, "Extra groove turns beyond wraps and travel",
@@ -281,6 +281,20 @@ class Export:
 
 
 @dataclass(frozen=True)
+class DomainRandomisation:
+    """Uncertainty of the mass model's inputs: mass_properties.json gives each link's mass and inertia over
+    the corners of this box (for domain randomisation in simulators)."""
+    filament_density_fraction: float = p(0.03, 0.0, 0.5, "Relative uncertainty of the filament density",
+                                         "PLA datasheets give 1.21-1.27 g/cm^3 around 1.24 (+/- 2.5 %)")
+    infill_absolute: float = p(0.05, 0.0, 0.5, "Absolute uncertainty of the effective infill fraction",
+                               "Slicer infill vs nominal differs by a few % (gyroid line overlap, anchors)")
+    wall_thickness_fraction: float = p(0.10, 0.0, 0.5, "Relative uncertainty of the printed wall thickness",
+                                       "Extrusion multiplier and line width vary 5-10 % between printers")
+    bought_mass_fraction: float = p(0.05, 0.0, 0.5, "Relative uncertainty of catalogue masses",
+                                    "Datasheet tolerances (NEMA 17 motors +/- 5 %)")
+
+
+@dataclass(frozen=True)
 class Component:
     """A bought part: catalogue mass and simple box geometry at a station along the body."""
     name: str = p("", doc="Component name")
@@ -292,12 +306,12 @@ class Component:
 
 
 DEFAULT_COMPONENTS = (
-    Component(name="battery", mass_kg=0.046, size_mm=(48.5, 26.5, 17.5), station_fraction=0.09, z_mm=-12.0,
-              source=f"{PAPER} Table 2 (9 V, 500 mAh); PP3 Li-ion cell 46 g"),
-    Component(name="electronics", mass_kg=0.030, size_mm=(45.0, 30.0, 15.0), station_fraction=0.09, z_mm=14.0,
-              source="Arduino Nano (7 g) + 4 x A4988 carriers (4 x 3 g) + MPU6050 + wiring"),
-    Component(name="fasteners", mass_kg=0.040, size_mm=(60.0, 20.0, 10.0), station_fraction=0.35, z_mm=-25.0,
-              source="M2/M3 screws, nuts and 3 mm dowels, estimated from the part count"),
+    Component(name="battery", mass_kg=0.046, size_mm=(48.5, 26.5, 17.5), station_fraction=0.27, z_mm=-41.5,
+              source=f"{PAPER} Table 2 (9 V, 500 mAh); PP3 Li-ion cell 46 g. Placed low under the motors: ballast"),
+    Component(name="electronics", mass_kg=0.030, size_mm=(30.0, 15.0, 45.0), station_fraction=0.077, z_mm=0.0,
+              source="Arduino Nano (7 g) + 4 x A4988 carriers (4 x 3 g) + MPU6050 + wiring, board on edge in the nose"),
+    Component(name="fasteners", mass_kg=0.040, size_mm=(60.0, 20.0, 10.0), station_fraction=0.39, z_mm=-40.0,
+              source="M2/M3 screws, nuts and 3 mm dowels, estimated from the part count; lumped under the rear motors"),
 )
 
 
@@ -317,9 +331,11 @@ class Params:
     rules: Rules = field(default_factory=Rules)
     print: Print = field(default_factory=Print)
     export: Export = field(default_factory=Export)
+    domain_randomisation: DomainRandomisation = field(default_factory=DomainRandomisation)
     components: tuple = field(default=DEFAULT_COMPONENTS)
 
 
 SECTIONS = {"body": Body, "hull": Hull, "joints": Joints, "motor": Motor, "spool": Spool, "cable": Cable,
             "guides": Guides, "caudal_fin": CaudalFin, "swimming": Swimming, "environment": Environment, "hydro": Hydro, "rules": Rules,
-            "print": Print, "export": Export}
+            "print": Print, "export": Export,
+            "domain_randomisation": DomainRandomisation}

@@ -1,0 +1,61 @@
+"""Bought parts as simple solids with catalogue masses: the stepper motors and the components of
+``params.components`` (battery, electronics, ...). Body frame at rest, mm; ``printed=False``.
+
+Cable and PTFE tube are not solids here (they have no fixed shape at rest worth a STEP file); their mass
+belongs to whoever sums the cable lengths (``cad.layout.cable_routes``).
+"""
+from __future__ import annotations
+
+from build123d import Plane, Polygon, Solid, extrude
+
+from cad.layout import motor_placements
+from cad.part import PartSpec
+from swiftfin.schema import Params
+
+MOTOR_CORNER_CHAMFER_FRACTION = 0.1
+"""Leg of the 45 deg chamfer on the frame's four long edges / frame size [-]. NEMA 17 drawings (17HS4401:
+42.3 mm frame, ~4-5 mm chamfers) give about 0.1."""
+
+PILOT_HOLE_FRACTION = 0.85
+"""Pilot hole for a self-tapping (thread-forming) screw in printed PLA / nominal diameter [-].
+ISO 261 tap drills are 0.80-0.84 x d (M2 1.6, M3 2.5); printed holes come out ~0.1 mm under size, so 0.85."""
+
+
+def pilot_hole_diameter_mm(screw_diameter_mm: float) -> float:
+    """Hole a screw of nominal ``screw_diameter_mm`` cuts its own thread in (printed plastic)."""
+    return PILOT_HOLE_FRACTION * screw_diameter_mm
+
+
+def motor_solid(p: Params, x_mm: float, z_face_mm: float) -> Solid:
+    """NEMA frame (chamfered square prism below the face), pilot boss and D-flat shaft above it, axis (x, 0)."""
+    m = p.motor
+    h, c = m.frame_size_mm / 2, MOTOR_CORNER_CHAMFER_FRACTION * m.frame_size_mm
+    octagon = Polygon((h - c, -h), (h, -h + c), (h, h - c), (h - c, h), (-h + c, h), (-h, h - c), (-h, -h + c),
+                      (-h + c, -h), align=None)
+    frame = extrude(octagon, m.body_length_mm).solids()[0].translate((0, 0, -m.body_length_mm))
+    r = m.shaft_diameter_mm / 2
+    shaft = Solid.make_cylinder(r, m.shaft_length_mm)
+    if m.shaft_flat_depth_mm > 0:
+        shaft = shaft.cut(Solid.make_box(r, 2 * r + 2, m.shaft_length_mm + 2).translate(
+            (r - m.shaft_flat_depth_mm, -r - 1, -1)))
+    body = frame.fuse(shaft)
+    if m.pilot_height_mm > 0:
+        body = body.fuse(Solid.make_cylinder(m.pilot_diameter_mm / 2, m.pilot_height_mm))
+    body = body.clean().solids()[0]
+    return body.translate((x_mm, 0.0, z_face_mm))
+
+
+def make_bought_parts(p: Params) -> list[PartSpec]:
+    """``motor_<j>`` at each motor placement, then one box per component, all on link 0, not printed."""
+    out = []
+    for mp in motor_placements(p):
+        out.append(PartSpec(label=f"motor_{mp.joint + 1}", solid=motor_solid(p, mp.x_mm, mp.z_face_mm), link=0,
+                            family="bought", printed=False, mass_kg=p.motor.mass_kg,
+                            meta={"joint": mp.joint + 1, "source": "motor.mass_kg (17HS4401 datasheet)"}))
+    for comp in p.components:
+        sx, sy, sz = comp.size_mm
+        x = -comp.station_fraction * p.body.length_mm
+        box = Solid.make_box(sx, sy, sz, Plane.XY).translate((x - sx / 2, -sy / 2, comp.z_mm - sz / 2))
+        out.append(PartSpec(label=comp.name, solid=box, link=0, family="bought", printed=False,
+                            mass_kg=comp.mass_kg, meta={"source": comp.source or "params.components"}))
+    return out

@@ -1,0 +1,333 @@
+"""PTFE tube guides at the cable routes' "exit" and "bay" bends (body frame at rest, mm).
+
+Numbers first (:func:`guide_blocks`: channel paths, block extents, screw points), solids second.
+
+* ``guide_exit_<j>`` (motor j >= 2): between spool j and the spool behind it; holds both of motor j's cables
+  through their exit bends into their lanes, and lets the lanes of the motors ahead pass straight through.
+  Screwed from above onto two posts of ``motor_mount_<j>`` (cad/mount.py builds the posts at
+  :attr:`GuideBlock.screw_points_mm`).
+* ``guide_bay``: behind the motor row; every cable's bay bend. Screwed onto posts at the aft edge of
+  ``motor_mount_1``'s plate; notched over the plate, it hangs down behind the motor as far as the descending
+  channels need, and prints upside down (its top is the one flat face).
+
+Each bent channel follows the route: straight in along the incoming segment, an arc of radius
+``guides.min_bend_radius_mm`` through the route's bend angle in the plane of the two segments (tangent to
+both), straight out. Its diameter is the tube's OD plus the sliding clearance. Blocks are clipped to the
+hull's inner wall (less the assembly gap, :func:`assembly_gap_mm`) at the narrower of their two ends, and cut
+clear of the spools beside them. A bend that does not fit raises UserError naming the guide, the bend angle
+and the radius.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from build123d import Edge, Face, Plane, Solid, Transition, Wire
+
+from cad.layout import cable_routes, half_height_mm, motor_placements, naca_half_width_mm, spool_dims
+from cad.part import PartSpec
+from swiftfin.errors import UserError
+from swiftfin.schema import Params
+
+POST_RADIUS_FACTOR = 1.5
+"""Post (and screw boss) radius / guide screw diameter [-]: 3 d across, ~2 line widths of wall around a
+pilot hole at 0.85 d. Engineering default."""
+
+
+@dataclass(frozen=True)
+class Channel:
+    """A tube channel: polyline in -> (arc) -> out, body frame [mm]. ``angle_rad`` 0 for a straight pass."""
+    joint: int                   # 1-based joint of the cable
+    side: int
+    p_in: tuple                  # a point on the incoming line, outside the block
+    t1: tuple                    # arc start (tangent point on the incoming segment)
+    t2: tuple                    # arc end
+    p_out: tuple                 # a point on the outgoing line, outside the block
+    bend_point: tuple            # the route's corner
+    angle_rad: float
+    radius_mm: float
+    centre: tuple                # arc centre
+    diameter_mm: float
+
+    @property
+    def mid(self) -> tuple:
+        """Mid point of the arc (the tangent point for a straight channel)."""
+        if self.angle_rad <= 1e-9:
+            return self.t1
+        c, b = np.asarray(self.centre), np.asarray(self.bend_point)
+        w = (b - c) / np.linalg.norm(b - c)
+        return tuple(c + self.radius_mm * w)
+
+
+@dataclass(frozen=True)
+class GuideBlock:
+    """A guide as numbers: a box (clipped to the hull, less keep-outs and notch) with its channels, body frame [mm]."""
+    label: str
+    mount: str                   # the motor mount carrying it
+    x_mm: tuple[float, float]
+    y_mm: tuple[float, float]
+    z_mm: tuple[float, float]
+    clip_ellipse_mm: tuple[float, float]   # half-width, half-height of the hull clip (centred on the axis)
+    channels: tuple[Channel, ...]
+    screw_points_mm: tuple[tuple[float, float], ...]   # (x, y) of the vertical screws (down into the posts)
+    screw_diameter_mm: float
+    screw_hole_diameter_mm: float
+    keep_out_mm: tuple[tuple[float, float, float], ...] = ()   # (x, y, radius): vertical cylinders cut away (spools)
+    seat_z_mm: float | None = None          # underside at the screws (the posts' tops); None: the block's floor
+    notch_mm: tuple[float, float] | None = None   # (x, z): the block is cut away for x >= x, z < z (over a plate)
+    print_rotation: tuple[float, float, float] = (0.0, 0.0, 0.0)   # floor on the bed; (180, 0, 0): top on the bed
+
+    @property
+    def seat_mm(self) -> float:
+        return self.z_mm[0] if self.seat_z_mm is None else self.seat_z_mm
+
+
+def assembly_gap_mm(p: Params) -> float:
+    """The gap to leave between parts that must not touch: the assembly clearance plus what tessellation
+    can take off it (each of the two meshes may lie up to ``export.mesh_tolerance_mm`` off its surface),
+    since the assembly check measures on the meshes."""
+    return p.print.clearance_assembly_mm + 2 * p.export.mesh_tolerance_mm
+
+
+def screw_hole_diameter_mm(p: Params) -> float:
+    """Clearance hole for the guide screws (a free fit)."""
+    return p.guides.screw_diameter_mm + 2 * p.print.clearance_sliding_mm
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v)
+
+
+def bend_channel(prev, corner, nxt, radius: float, diameter: float, joint: int, side: int, reach: float) -> Channel:
+    """Channel through the corner of the polyline prev -> corner -> next with an arc of ``radius``."""
+    a, b, c = (np.asarray(q, dtype=float) for q in (prev, corner, nxt))
+    u, v = _unit(b - a), _unit(c - b)
+    angle = math.acos(max(-1.0, min(1.0, float(u @ v))))
+    t = radius * math.tan(angle / 2)
+    t1, t2 = b - t * u, b + t * v
+    if angle > 1e-9:
+        w = _unit(v - (v @ u) * u)
+        centre = t1 + radius * w
+    else:
+        centre = b
+    return Channel(joint, side, tuple(t1 - reach * u), tuple(t1), tuple(t2), tuple(t2 + reach * v), tuple(b),
+                   angle, radius, tuple(centre), diameter)
+
+
+def channel_path(ch: Channel) -> Wire:
+    """The channel's centre line as a wire: line, arc (if any), line."""
+    edges = [Edge.make_line(ch.p_in, ch.t1)]
+    if ch.angle_rad > 1e-6:
+        edges.append(Edge.make_three_point_arc(ch.t1, ch.mid, ch.t2))
+    edges.append(Edge.make_line(ch.t2 if ch.angle_rad > 1e-6 else ch.t1, ch.p_out))
+    return Wire(edges)
+
+
+def _clip_ellipse(p: Params, s0_mm: float, s1_mm: float) -> tuple[float, float]:
+    """The hull's inner cross-section, less the clearance, at the narrower end of [s0, s1] (the hull's
+    half-width has one maximum, so its minimum over an interval lies at an end)."""
+    c = assembly_gap_mm(p)
+    s = min((s0_mm, s1_mm), key=lambda v: float(naca_half_width_mm(p, v)))
+    return (float(naca_half_width_mm(p, s)) - p.hull.wall_thickness_mm - c,
+            float(half_height_mm(p, s)) - p.hull.wall_thickness_mm - c)
+
+
+def arc_points(ch: Channel, n: int = 33) -> np.ndarray:
+    """Points along the channel's arc, t1 to t2."""
+    if ch.angle_rad <= 1e-9:
+        return np.array([ch.t1])
+    c = np.asarray(ch.centre)
+    a, b = np.asarray(ch.t1) - c, np.asarray(ch.t2) - c
+    w = b - (b @ a) / (a @ a) * a
+    w = w / np.linalg.norm(w) * ch.radius_mm
+    return np.array([c + math.cos(f) * a + math.sin(f) * w for f in np.linspace(0, ch.angle_rad, n)])
+
+
+def _check_arc(label: str, ch: Channel, x_lo: float, x_hi: float, seg_in: float, seg_out: float,
+               axes=(), keep_out: float = 0.0) -> None:
+    t = ch.radius_mm * math.tan(ch.angle_rad / 2)
+    arc = arc_points(ch)
+    xs = arc[:, 0]
+    problems = []
+    for ax, ay in axes:
+        gap = float(np.min(np.hypot(arc[:, 0] - ax, arc[:, 1] - ay))) - keep_out
+        if gap < -1e-6:
+            problems.append(f"the arc runs {-gap:.1f} mm into the spool at x = {ax:.1f} mm")
+    if t > seg_in or t > seg_out:
+        problems.append(f"the arc needs {t:.1f} mm of straight route on each side, the route has "
+                        f"{min(seg_in, seg_out):.1f} mm")
+    if min(xs) < x_lo - 1e-6 or max(xs) > x_hi + 1e-6:
+        problems.append(f"the arc spans x = {min(xs):.1f} .. {max(xs):.1f} mm, the guide's room is "
+                        f"x = {x_lo:.1f} .. {x_hi:.1f} mm")
+    if problems:
+        raise UserError(f"{label}: the {math.degrees(ch.angle_rad):.1f} deg bend of joint {ch.joint}'s "
+                        f"{'left' if ch.side > 0 else 'right'} cable cannot be made with the minimum bend radius "
+                        f"guides.min_bend_radius_mm = {ch.radius_mm:g} mm: " + "; ".join(problems)
+                        + " (use a smaller guides.min_bend_radius_mm, i.e. a more flexible tube)")
+
+
+def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
+    """The exit guides (motors 2..N) and the bay guide. Raises UserError if a bend does not fit."""
+    g, pr = p.guides, p.print
+    d = spool_dims(p)
+    c = assembly_gap_mm(p)
+    wall = pr.perimeters * pr.line_width_mm
+    R = g.min_bend_radius_mm
+    dia = g.ptfe_tube_od_mm + pr.clearance_sliding_mm
+    r_ch = dia / 2
+    motors = motor_placements(p)
+    routes = cable_routes(p)
+    post_r = POST_RADIUS_FACTOR * g.screw_diameter_mm
+    reach = 4 * R + 100.0
+    blocks = []
+    # ---- exit guides: from the spool behind's axis to this spool's axis, less both spools' envelopes
+    env_r = d.flange_radius_mm + c
+    for mp in motors[1:]:
+        label = f"guide_exit_{mp.joint + 1}"
+        behind = motors[mp.joint - 1]
+        # up to the spools' axes, less half a gap: the exit guides either side of a spool do not touch
+        x_lo, x_hi = behind.x_mm + c / 2, mp.x_mm - c / 2
+        if 2 * env_r + 2 * wall > x_hi - x_lo:
+            raise UserError(f"{label}: the spools' flanges (radius {d.flange_radius_mm:.1f} mm) leave no room for "
+                            f"the guide between motors {mp.joint} and {mp.joint + 1} ({x_hi - x_lo:.1f} mm apart): "
+                            f"use a smaller spool.drum_diameter_mm or spool.flange_height_mm")
+        axes = ((mp.x_mm, 0.0), (behind.x_mm, 0.0))
+        chans = []
+        for r in routes:
+            if r.joint != mp.joint:
+                continue
+            pts = r.points_mm
+            ch = bend_channel(pts[0], pts[1], pts[2], R, dia, r.joint + 1, r.side, reach)
+            _check_arc(label, ch, x_lo, x_hi, float(np.linalg.norm(np.subtract(pts[1], pts[0]))),
+                       float(np.linalg.norm(np.subtract(pts[2], pts[1]))),
+                       axes, env_r + g.ptfe_tube_od_mm / 2)
+            chans.append(ch)
+        for r in routes:   # the lanes of the motors ahead pass straight through
+            if r.joint > mp.joint:
+                y, z = r.points_mm[2][1], r.points_mm[2][2]
+                chans.append(Channel(r.joint + 1, r.side, (x_hi + reach, y, z), (x_hi, y, z), (x_hi, y, z),
+                                     (x_lo - reach, y, z), (x_hi, y, z), 0.0, 0.0, (x_hi, y, z), dia))
+        ys = [abs(ch.t2[1]) for ch in chans]
+        zs = [ch.t2[2] for ch in chans]
+        y_half = max(ys) + r_ch + wall
+        zr = (min(zs) - r_ch - wall, max(zs) + r_ch + wall)
+        x_post = mp.x_mm - p.motor.frame_size_mm / 2 + post_r
+        hole_r = screw_hole_diameter_mm(p) / 2
+        dx = x_post - mp.x_mm
+        # at least one line of wall between the screw hole and the spool's envelope
+        y_post = max(p.motor.hole_spacing_mm / 4,
+                     math.sqrt(max(0.0, (env_r + hole_r + pr.line_width_mm) ** 2 - dx**2)))
+        hs = p.motor.hole_spacing_mm / 2
+        head_gap = math.hypot(abs(dx) - hs, y_post - hs) - post_r - p.motor.mount_screw_diameter_mm
+        if head_gap < 0:
+            raise UserError(f"{label}: its posts (at {dx:.1f}, +/-{y_post:.1f} mm from the motor axis, clear of "
+                            f"spool {mp.joint + 1}'s flange of radius {d.flange_radius_mm:.1f} mm) would sit on the "
+                            f"motor's screw heads: use a smaller spool.drum_diameter_mm or spool.flange_height_mm")
+        # trim to the arcs plus one tube diameter of straight channel either side, and the screws
+        arcs_x = np.concatenate([arc_points(ch)[:, 0] for ch in chans if ch.angle_rad > 0])
+        x_lo = max(x_lo, min(float(arcs_x.min()) - g.ptfe_tube_od_mm, x_post - post_r - wall))
+        x_hi = min(x_hi, max(float(arcs_x.max()) + g.ptfe_tube_od_mm, x_post + post_r + wall))
+        blocks.append(GuideBlock(label, f"motor_mount_{mp.joint + 1}", (x_lo, x_hi), (-y_half, y_half), zr,
+                                 _clip_ellipse(p, -x_lo, -x_hi), tuple(chans), ((x_post, y_post), (x_post, -y_post)),
+                                 g.screw_diameter_mm, screw_hole_diameter_mm(p), tuple((x, y, env_r) for x, y in axes)))
+    # ---- bay guide: behind the rear spool, on posts at the aft edge of motor_mount_1's plate; it reaches
+    # forward over the plate (notched over the plate and the motor's screw heads) and hangs down aft of the
+    # motor's frame as far as the descending channels need.
+    rear = motors[0]
+    label = "guide_bay"
+    F = p.motor.frame_size_mm
+    hole_r = screw_hole_diameter_mm(p) / 2
+    plate_top = rear.z_face_mm + d.plate_mm
+    x_post = rear.x_mm - F / 2 + post_r
+    # between the rear motor's own two cables (they leave the drum at y = +/- its radius)
+    y_post = min(p.motor.hole_spacing_mm / 4, d.drum_radius_mm - r_ch - hole_r - pr.line_width_mm)
+    screws = ((x_post, y_post), (x_post, -y_post)) if y_post >= post_r else ((x_post, 0.0),)
+    x_hi = min(rear.x_mm, x_post + post_r + wall)
+    env_r = d.flange_radius_mm + c
+    chans = []
+    for r in routes:
+        k = next(i for i, b in enumerate(r.bends) if b.kind == "bay") + 1
+        pts = r.points_mm
+        ch = bend_channel(pts[k - 1], pts[k], pts[k + 1], R, dia, r.joint + 1, r.side, reach)
+        chans.append((ch, float(np.linalg.norm(np.subtract(pts[k], pts[k - 1]))),
+                      float(np.linalg.norm(np.subtract(pts[k + 1], pts[k])))))
+    x_lo = min(float(arc_points(ch)[:, 0].min()) for ch, _, _ in chans) - g.ptfe_tube_od_mm
+    for ch, a, b in chans:
+        _check_arc(label, ch, x_lo, rear.x_mm - F / 2, a, b, ((rear.x_mm, 0.0),), env_r + g.ptfe_tube_od_mm / 2)
+    chans = [ch for ch, _, _ in chans]
+    # extents of the channel centre lines inside [x_lo, x_hi]
+    samples = []
+    for ch in chans:
+        for q0, q1 in ((ch.p_in, ch.t1), (ch.t2, ch.p_out)):
+            for f in np.linspace(0, 1, 401):
+                samples.append(np.asarray(q0) + f * (np.asarray(q1) - np.asarray(q0)))
+        samples += list(arc_points(ch))
+    samples = np.asarray(samples)
+    samples = samples[(samples[:, 0] >= x_lo) & (samples[:, 0] <= x_hi)]
+    y_half = float(np.max(np.abs(samples[:, 1]))) + r_ch + wall
+    zr = (float(np.min(samples[:, 2])) - r_ch - wall, float(np.max(samples[:, 2])) + r_ch + wall)
+    # the seat on the posts: above the plate and the motor screws' heads (socket head height ~ d)
+    seat = plate_top + p.motor.mount_screw_diameter_mm + c
+    notch_x = min(rear.x_mm - F / 2, x_post - post_r - wall) - c   # the plate's aft edge (cad/mount.py)
+    over_plate = samples[samples[:, 0] >= notch_x - r_ch]
+    if len(over_plate) and float(over_plate[:, 2].min()) - r_ch - wall < seat:
+        raise UserError(f"{label}: the channels over motor_mount_1 come down to z = "
+                        f"{float(over_plate[:, 2].min()) - r_ch:.1f} mm, too close to the plate and its screw heads "
+                        f"(z = {seat:.1f} mm) for the guide's floor: use a smaller guides.min_bend_radius_mm = {R:g} "
+                        f"mm or a larger spool.hub_length_mm")
+    notch = (notch_x, seat) if zr[0] < seat else None
+    if notch is None:
+        seat = zr[0]
+    blocks.append(GuideBlock(label, "motor_mount_1", (x_lo, x_hi), (-y_half, y_half), zr,
+                             _clip_ellipse(p, -x_lo, -x_hi), tuple(chans), screws,
+                             g.screw_diameter_mm, screw_hole_diameter_mm(p), ((rear.x_mm, 0.0, env_r),),
+                             seat_z_mm=seat, notch_mm=notch, print_rotation=(180.0, 0.0, 0.0)))
+    return tuple(blocks)
+
+
+# ----------------------------------------------------------------------------------------------- solids
+def channel_solid(ch: Channel) -> Solid:
+    """The tube channel: the circle of the channel's diameter swept along its centre line."""
+    start = tuple(np.asarray(ch.p_in))
+    normal = tuple(_unit(np.subtract(ch.t1, ch.p_in)))
+    section = Face(Wire.make_circle(ch.diameter_mm / 2, Plane(origin=start, z_dir=normal)))
+    return Solid.sweep(section, channel_path(ch), transition=Transition.ROUND)
+
+
+def guide_solid(b: GuideBlock) -> Solid:
+    (x0, x1), (y0, y1), (z0, z1) = b.x_mm, b.y_mm, b.z_mm
+    box = Solid.make_box(x1 - x0, y1 - y0, z1 - z0).translate((x0, y0, z0))
+    a, h = b.clip_ellipse_mm
+    ell = Face(Wire.make_ellipse(a, h, Plane.YZ.offset(x0 - 1)))
+    prism = Solid.extrude(ell, (x1 - x0 + 2, 0, 0))
+    body = box.intersect(prism).solids()[0]
+    cutters = [channel_solid(ch) for ch in b.channels]
+    for x, y, r in b.keep_out_mm:
+        cutters.append(Solid.make_cylinder(r, z1 - z0 + 2, Plane(origin=(x, y, z0 - 1))))
+    if b.notch_mm is not None:
+        nx, nz = b.notch_mm
+        cutters.append(Solid.make_box(x1 - nx + 1, y1 - y0 + 2, nz - z0 + 1).translate((nx, y0 - 1, z0 - 1)))
+    hole_r = b.screw_hole_diameter_mm / 2
+    for x, y in b.screw_points_mm:
+        cutters.append(Solid.make_cylinder(hole_r, z1 - z0 + 2, Plane(origin=(x, y, z0 - 1))))
+    body = body.cut(*cutters)
+    solids = body.solids()
+    if len(solids) != 1:
+        raise UserError(f"{b.label}: the guide falls apart into {len(solids)} pieces around the channels and "
+                        f"spools; this design leaves no room for it (check spool.flange_height_mm, "
+                        f"guides.ptfe_tube_od_mm and the joint stations)")
+    return solids[0]
+
+
+def make_guides(p: Params) -> list[PartSpec]:
+    """``guide_exit_<j>`` for motors j >= 2 and ``guide_bay``, link 0, each printed on its flat face."""
+    out = []
+    for b in guide_blocks(p):
+        out.append(PartSpec(label=b.label, solid=guide_solid(b), link=0, family="guide",
+                            print_rotation=b.print_rotation,
+                            meta={"mount": b.mount,
+                                  "bends_deg": [round(math.degrees(ch.angle_rad), 3) for ch in b.channels
+                                                if ch.angle_rad > 0]}))
+    return out

@@ -1,0 +1,262 @@
+"""PTFE guides: channel geometry against the cable routes, measured on the numbers and on the solids."""
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+import pytest
+from OCP.BRepAdaptor import BRepAdaptor_Surface
+from OCP.BRepTools import BRepTools
+
+from cad import layout as L
+from cad.guide import channel_path, guide_blocks, guide_solid, make_guides
+from swiftfin.errors import UserError
+from swiftfin.params import replace_key
+from swiftfin.schema import Params
+from tests.test_spool import check_golden, mesh_of
+
+
+@functools.lru_cache(maxsize=None)
+def default_guides() -> tuple:
+    """The default design's guides, built once per test session (shared with test_mount)."""
+    return tuple(make_guides(Params()))
+
+
+@pytest.fixture(scope="session")
+def guides():
+    return list(default_guides())
+
+
+def _line_distance(q, a, b) -> float:
+    a, b, q = (np.asarray(v, dtype=float) for v in (a, b, q))
+    u = (b - a) / np.linalg.norm(b - a)
+    w = q - a
+    return float(np.linalg.norm(w - (w @ u) * u))
+
+
+def _route_bends(p):
+    """(block label, route, index of the bend's point) for every exit and bay bend."""
+    out = []
+    for r in L.cable_routes(p):
+        for k, b in enumerate(r.bends, start=1):
+            if b.kind == "exit":
+                out.append((f"guide_exit_{r.joint + 1}", r, k))
+            elif b.kind == "bay":
+                out.append(("guide_bay", r, k))
+    return out
+
+
+def test_labels_and_validity(guides):
+    p = Params()
+    n = p.joints.count
+    assert [g.label for g in guides] == [f"guide_exit_{j}" for j in range(2, n + 1)] + ["guide_bay"]
+    tol = p.export.mesh_tolerance_mm
+    for g in guides:
+        assert g.link == 0 and g.family == "guide" and g.printed
+        assert g.solid.is_valid and len(g.solid.solids()) == 1
+        mesh = mesh_of(g.solid, tol)
+        assert mesh.is_watertight
+        assert mesh.volume == pytest.approx(g.solid.volume, abs=g.solid.area * tol)
+
+
+@pytest.mark.parametrize("label", [f"guide_exit_{j}" for j in range(2, 5)] + ["guide_bay"])
+def test_golden(guides, label, update_golden):
+    check_golden(label, next(g for g in guides if g.label == label).solid, update_golden)
+
+
+def test_every_exit_and_bay_bend_has_its_channel():
+    p = Params()
+    blocks = {b.label: b for b in guide_blocks(p)}
+    bends = _route_bends(p)
+    assert len(bends) == 2 * p.joints.count + 2 * (p.joints.count - 1)
+    R = p.guides.min_bend_radius_mm
+    for label, r, k in bends:
+        (ch,) = [c for c in blocks[label].channels if c.joint == r.joint + 1 and c.side == r.side and c.angle_rad > 0]
+        prev, corner, nxt = r.points_mm[k - 1], r.points_mm[k], r.points_mm[k + 1]
+        assert ch.angle_rad == pytest.approx(r.bends[k - 1].angle_rad, rel=1e-9)
+        assert ch.radius_mm == R
+        # the straight parts lie on the route's segments (the axis passes through the route's points)
+        for q in (prev, corner):
+            assert _line_distance(q, ch.p_in, ch.t1) < 1e-9
+        for q in (corner, nxt):
+            assert _line_distance(q, ch.t2, ch.p_out) < 1e-9
+        # the arc built as an edge: radius and swept angle equal the route's bend
+        arc = channel_path(ch).edges()[1]
+        assert arc.radius == pytest.approx(R, rel=1e-9)
+        assert arc.length / R == pytest.approx(r.bends[k - 1].angle_rad, rel=1e-9)
+        # tangent to both segments: centre at R from both tangent points, perpendicular to the segments
+        c = np.asarray(ch.centre)
+        u = np.subtract(corner, prev) / np.linalg.norm(np.subtract(corner, prev))
+        v = np.subtract(nxt, corner) / np.linalg.norm(np.subtract(nxt, corner))
+        assert np.linalg.norm(np.subtract(ch.t1, c)) == pytest.approx(R, rel=1e-12)
+        assert np.linalg.norm(np.subtract(ch.t2, c)) == pytest.approx(R, rel=1e-12)
+        assert abs(np.subtract(ch.t1, c) @ u) < 1e-9 and abs(np.subtract(ch.t2, c) @ v) < 1e-9
+        # a hand check of the closed form: corner to tangent point = R tan(theta / 2)
+        assert np.linalg.norm(np.subtract(corner, ch.t1)) == pytest.approx(R * math.tan(ch.angle_rad / 2), rel=1e-9)
+
+
+def test_channels_measured_on_the_solids(guides):
+    """Torus faces: major radius = bend radius, minor = tube OD + clearance, swept angle = the route's bend,
+    centred on the arc's centre, in the plane of the two segments; cylinder faces on the route's segments."""
+    p = Params()
+    blocks = {b.label: b for b in guide_blocks(p)}
+    solids = {g.label: g.solid for g in guides}
+    r_ch = (p.guides.ptfe_tube_od_mm + p.print.clearance_sliding_mm) / 2
+    for label, r, k in _route_bends(p):
+        (ch,) = [c for c in blocks[label].channels if c.joint == r.joint + 1 and c.side == r.side and c.angle_rad > 0]
+        angle = 0.0
+        for f in solids[label].faces():
+            if f.geom_type.name != "TORUS":
+                continue
+            t = BRepAdaptor_Surface(f.wrapped).Torus()
+            loc = t.Location()
+            if np.linalg.norm(np.subtract((loc.X(), loc.Y(), loc.Z()), ch.centre)) > 1e-6:
+                continue
+            assert t.MajorRadius() == pytest.approx(p.guides.min_bend_radius_mm, rel=1e-9)
+            assert t.MinorRadius() == pytest.approx(r_ch, rel=1e-9)
+            ax = t.Axis().Direction()
+            u = np.subtract(r.points_mm[k], r.points_mm[k - 1])
+            v = np.subtract(r.points_mm[k + 1], r.points_mm[k])
+            nrm = np.cross(u, v) / np.linalg.norm(np.cross(u, v))
+            assert abs(abs(nrm @ (ax.X(), ax.Y(), ax.Z())) - 1) < 1e-9
+            umin, umax, _, _ = BRepTools.UVBounds_s(f.wrapped)
+            angle = max(angle, umax - umin)
+        assert angle == pytest.approx(r.bends[k - 1].angle_rad, rel=1e-6), (label, r.joint, r.side)
+        # the straight channel out of the bend: a cylinder whose axis holds the corner and the next point
+        found = False
+        for f in solids[label].faces():
+            if f.geom_type.name == "CYLINDER":
+                c = BRepAdaptor_Surface(f.wrapped).Cylinder()
+                if abs(c.Radius() - r_ch) > 1e-9:
+                    continue
+                o, d = c.Axis().Location(), c.Axis().Direction()
+                a = (o.X(), o.Y(), o.Z())
+                b = (o.X() + d.X(), o.Y() + d.Y(), o.Z() + d.Z())
+                if _line_distance(r.points_mm[k], a, b) < 1e-6 and _line_distance(r.points_mm[k + 1], a, b) < 1e-6:
+                    found = True
+        assert found, (label, r.joint, r.side)
+
+
+def test_lanes_ahead_pass_through_exit_guides(guides):
+    p = Params()
+    for b in guide_blocks(p)[:-1]:
+        j = int(b.label.rsplit("_", 1)[1])
+        passing = [c for c in b.channels if c.angle_rad == 0]
+        assert sorted((c.joint, c.side) for c in passing) == sorted(
+            (k, s) for k in range(j + 1, p.joints.count + 1) for s in (1, -1))
+        solid = next(g.solid for g in guides if g.label == b.label)
+        for c in passing:   # air on the lane's axis across the whole block
+            from build123d import Vector
+            for x in np.linspace(b.x_mm[0] + 0.1, b.x_mm[1] - 0.1, 7):
+                assert not solid.is_inside(Vector(x, c.t1[1], c.t1[2]))
+
+
+def test_screw_holes_miss_the_channels():
+    p = Params()
+    for b in guide_blocks(p):
+        hole_r = b.screw_hole_diameter_mm / 2
+        for x, y in b.screw_points_mm:
+            assert b.x_mm[0] < x < b.x_mm[1]
+            for ch in b.channels:
+                pts = np.concatenate([np.linspace(ch.p_in, ch.t1, 400), np.linspace(ch.t1, ch.mid, 50),
+                                      np.linspace(ch.mid, ch.t2, 50), np.linspace(ch.t2, ch.p_out, 400)])
+                inside = (pts[:, 0] > b.x_mm[0]) & (pts[:, 0] < b.x_mm[1])
+                dist = np.hypot(pts[inside, 0] - x, pts[inside, 1] - y)
+                assert dist.min() > ch.diameter_mm / 2 + hole_r, (b.label, ch.joint, ch.side)
+
+
+def test_guides_inside_the_hull(guides):
+    p = Params()
+    c = p.print.clearance_assembly_mm
+    for g in guides:
+        verts = np.array([tuple(v) for v in g.solid.vertices()])
+        for q in verts:
+            assert L.interior_half_width_at_height_mm(p, -q[0], q[2]) - abs(q[1]) >= c - 1e-6, g.label
+
+
+def test_bend_too_tight_for_the_space_is_refused():
+    p = replace_key(Params(), "guides.min_bend_radius_mm", 60.0)
+    with pytest.raises(UserError, match=r"guide_exit_2: the 7\.2 deg bend .*min_bend_radius_mm = 60 mm"):
+        guide_blocks(p)
+
+
+@pytest.mark.parametrize("changes", [
+    {"spool.drum_diameter_mm": 30.0, "spool.wraps": 3.0},
+    {"joints.count": 3, "joints.stations_fraction": (0.55, 0.65, 0.75)},
+])
+def test_other_designs_build_valid_guides(changes):
+    p = Params()
+    for k, v in changes.items():
+        p = replace_key(p, k, v)
+    blocks = guide_blocks(p)
+    assert [b.label for b in blocks] == [f"guide_exit_{j}" for j in range(2, p.joints.count + 1)] + ["guide_bay"]
+    for b in (blocks[0], blocks[-1]):
+        s = guide_solid(b)
+        assert s.is_valid and len(s.solids()) == 1
+
+
+def test_print_orientation_puts_a_flat_face_on_the_bed(guides):
+    from build123d import Axis
+    for gd in guides:
+        rx, ry, rz = gd.print_rotation
+        rotated = gd.solid.rotate(Axis.X, rx).rotate(Axis.Y, ry).rotate(Axis.Z, rz)
+        bb = rotated.bounding_box()
+        bed = sum(f.area for f in rotated.faces() if f.geom_type.name == "PLANE" and abs(f.center().Z - bb.min.Z) < 1e-6
+                  and abs(abs(f.normal_at().Z) - 1) < 1e-9)
+        # at least half the footprint (the rest: the hull clip's corners, the spool cut-outs, channel grooves)
+        assert bed > 0.5 * (bb.max.X - bb.min.X) * (bb.max.Y - bb.min.Y), gd.label
+
+
+def test_bay_guide_seat_and_notch():
+    """The bay guide sits on the rear mount's posts above the motor screws' heads, is cut away over the mount's
+    plate, and reaches below its seat behind the plate (where its channels descend)."""
+    p = Params()
+    bay = guide_blocks(p)[-1]
+    rear = L.motor_placements(p)[0]
+    plate_top = rear.z_face_mm + L.plate_thickness_mm(p)
+    assert bay.seat_mm == pytest.approx(plate_top + p.motor.mount_screw_diameter_mm + p.print.clearance_assembly_mm
+                                        + 2 * p.export.mesh_tolerance_mm)
+    assert bay.notch_mm is not None and bay.notch_mm[1] == bay.seat_mm
+    assert bay.z_mm[0] < bay.seat_mm
+    assert all(x > bay.notch_mm[0] for x, _ in bay.screw_points_mm)
+
+
+SWEEP_RANGES = {"spool.drum_diameter_mm": (12.0, 40.0), "spool.wraps": (1.0, 4.0), "spool.groove_pitch_mm": (1.5, 3.0),
+                "spool.groove_depth_mm": (0.2, 0.9), "spool.flange_height_mm": (1.0, 6.0),
+                "spool.hub_length_mm": (5.0, 12.0), "cable.diameter_mm": (0.5, 1.05),
+                "guides.ptfe_tube_od_mm": (3.0, 5.0), "guides.min_bend_radius_mm": (8.0, 35.0),
+                "motor.shaft_diameter_mm": (4.0, 6.0), "print.clearance_sliding_mm": (0.1, 0.5)}
+
+
+@pytest.mark.slow
+def test_seeded_sweep_builds_or_refuses_clearly():
+    """Random designs around the default (seeded): each one the schema and layout accept either builds valid
+    single-solid spools, mounts and guides, or is refused with a UserError naming the part and a parameter."""
+    import random
+
+    from cad.layout import layout_problems
+    from cad.mount import mount_numbers, mount_solid
+    from cad.spool import spool_numbers, spool_solid
+    from swiftfin.params import cross_field_problems
+    rng = random.Random(20261121)
+    built = refused = 0
+    while built + refused < 6:
+        p = Params()
+        for k, (lo, hi) in SWEEP_RANGES.items():
+            if rng.random() < 0.5:
+                p = replace_key(p, k, round(rng.uniform(lo, hi), 2))
+        if rng.random() < 0.3:
+            p = replace_key(replace_key(p, "joints.count", 3), "joints.stations_fraction", (0.55, 0.65, 0.75))
+        if cross_field_problems(p) or layout_problems(p):
+            continue
+        try:
+            sn, mn, gb = spool_numbers(p), mount_numbers(p), guide_blocks(p)
+        except UserError as e:
+            assert any(w in str(e) for w in ("spool_", "motor_mount_", "guide_")) and "_mm" in str(e), str(e)
+            refused += 1
+            continue
+        for s in [spool_solid(sn[0]), mount_solid(mn[0]), mount_solid(mn[-1])] + [guide_solid(b) for b in gb]:
+            assert s.is_valid and len(s.solids()) == 1
+        built += 1
+    assert built >= 3
