@@ -1,0 +1,1257 @@
+"""Calibration engine: measured data -> base model -> residual -> named physical effects -> report.
+
+The engine knows no physics. A *family* (``joint``, ``drive``, ``body``) supplies a base model built from the
+paper's equations and a library of candidate *effects*, each a physical mechanism the base model lacks, with
+parameters, bounds and a fingerprint in the residual. The :class:`Calibrator` fits the base model, diagnoses
+the residual, then adds effects one at a time (forward selection) while an effect lowers the error on held-out
+data by a significant margin with physically plausible parameters, and stops when the residual is white or no
+candidate helps. It is an estimator (house style rule 12): ``Calibrator(family).fit(train, holdout) -> self``,
+learned values end in ``_``, every fitted parameter carries a standard uncertainty.
+
+How to add a family
+-------------------
+1. Create ``calibration/<name>.py``. Declare the CSV columns it needs with :class:`calibration.io.Column`
+   (name, unit, kind) and read files with :func:`calibration.io.read_log`, which checks names, units,
+   time stamps and NaN gaps and raises :class:`swiftfin.errors.UserError` naming file, column and row.
+2. Write a loader ``load(path, design, notes=None) -> Context`` (``notes``: a list the loader appends warnings
+   to, e.g. :attr:`calibration.io.LogData.notes`; the CLI prints them): the measured ``target``
+   (``Context.y``), the fixed part of
+   the base prediction (``Context.base``, e.g. the rigid capstan angle; zeros if none), the base model's
+   fitted regressors (``Context.base_columns``, e.g. acceleration for a rigid inertia; shape (n, 0) if none)
+   and named signals the effects and diagnostics use. ``signals`` must hold ``"input"`` (what drives the
+   system), ``"velocity"`` and ``"position"`` (the axes the residual is plotted and binned against); add any
+   family-specific signal (smoothed derivatives, cumulative travel ...) there, computed once.
+   Refuse data that cannot support a fit (too short, not excited) with a UserError.
+3. Write each candidate as an :class:`Effect`: ``columns(ctx, nl)`` returns the regressors whose linear
+   coefficients the engine solves by least squares for given nonlinear parameters ``nl`` (a dict; the engine
+   searches them on a grid inside their bounds and refines them); ``plausible`` says what fitted values are
+   physically impossible; ``physical`` converts fitted values to the quantities a user recognises.
+   :mod:`calibration.effects` has the shared operators (play, fractional delay, filters, derivatives).
+   The short way is keyword construction with plain functions::
+
+       Effect(name="viscous_friction", meaning="...", fingerprint="...",
+              linear=(Param("damping_n_s_m", "N s/m", 0.0, 1e4),),
+              columns_fn=lambda ctx, nl: ctx.signals["velocity"])
+
+   (``plausible_fn(values, ctx) -> list[str]`` and ``physical_fn(values, stds, ctx) -> dict`` likewise);
+   subclass and override :meth:`Effect.grid` for a data-dependent grid (thresholds).
+4. Build a :class:`Family` and add its module to :data:`FAMILY_MODULES` (the module must define ``FAMILY``).
+   ``swiftfin fit <name> DATA`` then works, with the report, the plots and the JSON.
+5. Test it like ``tests/test_calib_joint.py``: data made by each effect's own model plus white noise must give
+   back the truth within 3 sigma; a physical simulation with each effect alone must name it first.
+
+Model structure (what the engine assumes)
+-----------------------------------------
+    y_hat = base + base_columns @ b0 + sum_e columns_e(ctx, nl_e) @ b_e
+
+linear in every ``b`` for fixed ``nl``. Columns are computed on a whole record (a run), so effects with state
+(backlash, creep, delays, filters) see the full history; the train / holdout split selects rows afterwards.
+
+Selection criterion (stated once, used everywhere)
+--------------------------------------------------
+A candidate is *accepted* when, against the current model, on the held-out rows:
+  * the RMSE drops by more than ``min_relative_drop`` (default 10 %), and
+  * the drop is significant: F-test of the held-out SSE drop with the effective sample size of the autocorrelated
+    residual (:func:`heldout_f_test`), p < ``alpha`` (default 1e-3); the paired t-test on contiguous block means
+    (:func:`block_test`) is reported beside it, and
+  * its fitted parameters pass the effect's plausibility check and lie inside their bounds (not pinned).
+Every candidate is first fitted on its grid; the ``n_refine`` best are refined; the best accepted one (lowest
+held-out RMSE) is added. Then the earlier effects' nonlinear values are refined again with it (they were fitted
+without it), and backward pruning removes any earlier effect that no longer passes the same criterion given the
+others (it stood in for the one just found); a removed effect is not re-added. Candidates whose held-out error is not
+significantly worse than the winner's (paired block test p > 0.05 or RMSE within 1 %) are reported as
+``indistinguishable_from``: the data cannot tell them apart and the report says so.
+Selection stops when the residual is white (see :func:`diagnose`), when nothing is accepted, or after
+``max_effects``. ``unexplained_structure_`` is True when the final residual still has structure.
+
+Held-out data are a separate run (``holdout=`` a Context) or contiguous time blocks of the training run
+(``holdout_fraction``, default 0.3, as ``round(fraction * n_blocks)`` evenly spread blocks of
+``n_blocks`` = 10); never random samples.
+"""
+from __future__ import annotations
+
+import importlib
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any, Callable, Sequence
+
+import numpy as np
+from scipy import optimize, signal, stats
+
+# ------------------------------------------------------------------------------------------- data structures
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter of an effect.
+
+    name : str      identifier, carries its unit (``delay_s``, ``width_rad``); shown in the report.
+    unit : str      unit string for the report (``"s"``, ``"rad"``, ``"-"``).
+    lo, hi : float  bounds. For a nonlinear parameter the search never leaves them, and an optimum pinned at a
+                    bound (within 1 % of the span) is flagged as not plausible. For a linear coefficient they
+                    are the plausibility range (least squares is unconstrained; out of range = implausible).
+    doc : str       physical meaning, one line.
+    scale : str     ``"lin"`` or ``"log"``: how the search grid spaces the values (log needs lo > 0).
+    grid : int      number of grid points of the profile search (nonlinear parameters only).
+    refine : bool   refine the best grid point by a bounded 1-D/Powell search (False for parameters the model
+                    depends on in steps, e.g. a threshold: the grid is then the set of distinct values,
+                    see :meth:`Effect.grid`).
+    """
+
+    name: str
+    unit: str
+    lo: float
+    hi: float
+    doc: str = ""
+    scale: str = "lin"
+    grid: int = 16
+    refine: bool = True
+
+    def grid_values(self) -> np.ndarray:
+        if self.scale == "log":
+            return np.geomspace(self.lo, self.hi, self.grid)
+        return np.linspace(self.lo, self.hi, self.grid)
+
+
+@dataclass
+class Context:
+    """One record (a run) of one family, ready for fitting. Built by the family's loader.
+
+    t : (n,) time [s], increasing within a series.
+    y : (n,) measured target in the family's target unit.
+    base : (n,) fixed part of the base prediction (no fitted coefficient), e.g. the rigid capstan angle.
+    base_columns : (n, k0) regressors of the base model's fitted terms (k0 may be 0).
+    signals : named (n,) arrays: at least ``input``, ``velocity``, ``position``; family-specific extras.
+    source : str, the file (for messages and the report).
+    series : optional (n,) int array; rows of one series are one contiguous time series (e.g. one marker).
+             None means the whole record is one series.
+    meta : dict of family data the effects need (design constants, sample period ...).
+    """
+
+    t: np.ndarray
+    y: np.ndarray
+    base: np.ndarray
+    base_columns: np.ndarray
+    signals: dict[str, np.ndarray]
+    source: str = "<memory>"
+    series: np.ndarray | None = None
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def n(self) -> int:
+        return int(self.y.shape[0])
+
+    def subsample(self, stride: int) -> "Context":
+        """Every ``stride``-th row of every array (for the fast selection pass on long logs).
+
+        Signals were computed at the full rate, so derivatives and cumulative quantities stay accurate; effects
+        that integrate in time must use ``ctx.t`` (not a stored sample period)."""
+        if stride <= 1:
+            return self
+        sl = slice(None, None, stride)
+        meta = dict(self.meta)
+        if "dt_s" in meta:
+            meta["dt_s"] = meta["dt_s"] * stride
+        return Context(self.t[sl], self.y[sl], self.base[sl], self.base_columns[sl],
+                       {k: v[sl] for k, v in self.signals.items()}, self.source,
+                       None if self.series is None else self.series[sl], meta)
+
+
+    def select(self, rows: np.ndarray, series: np.ndarray | None = None) -> "Context":
+        """The given rows (sorted indices) as a new context, e.g. a few contiguous windows of a long log for the
+        fast selection pass. ``meta["parent"]`` keeps the full context, so an effect whose state depends on the
+        whole history (a count of events since the start) can compute it there and read it at ``ctx.t``.
+        Effects that filter in time restart at each window: the engine excludes a warm-up at every window start."""
+        meta = dict(self.meta)
+        meta["parent"] = self.meta.get("parent", self)
+        return Context(self.t[rows], self.y[rows], self.base[rows], self.base_columns[rows],
+                       {k: v[rows] for k, v in self.signals.items()}, self.source,
+                       series if series is not None else (None if self.series is None else self.series[rows]), meta)
+
+
+class Effect:
+    """A physical effect the base model lacks: one candidate of a family's library.
+
+    Subclass it (or instantiate with the keyword arguments) and give:
+
+    name : str          the exact name used on the command line and in the report (``coulomb_friction``).
+    meaning : str       the physical mechanism, one or two sentences.
+    fingerprint : str   what it leaves in the residual (``a step at zero velocity``) and the axis to look at.
+    linear : tuple[Param]     coefficients solved by least squares (their bounds are plausibility ranges).
+    nonlinear : tuple[Param]  parameters searched on a grid with the linear ones solved inside, then refined.
+    fingerprint_axis : str    name of a ``Context.signals`` entry to plot the residual against ("velocity").
+
+    Methods to implement:
+
+    columns(ctx, nl) -> (n, len(linear)) array
+        The effect's contribution per unit of each linear coefficient, on the whole record, for nonlinear
+        values ``nl`` (dict name -> float). Must be finite. Pure function of ``ctx`` and ``nl``.
+    plausible(values, ctx) -> list[str]
+        Reasons the fitted values (dict over linear and nonlinear names) are physically implausible; empty if
+        fine. Default: linear coefficients inside their [lo, hi].
+    physical(values, stds, ctx) -> dict[name, (value, std, unit)]
+        Fitted values converted to physical quantities (e.g. a stiffness from a lag). Default: none.
+    evidence(residual, ctx, nl) -> float
+        Fingerprint score in [0, 1]: the share of the residual's variance the effect's columns can explain
+        (least-squares projection). The engine reports it for every candidate at each step.
+    """
+
+    name: str = ""
+    meaning: str = ""
+    fingerprint: str = ""
+    linear: tuple[Param, ...] = ()
+    nonlinear: tuple[Param, ...] = ()
+    fingerprint_axis: str = "velocity"
+
+    def __init__(self, **kw: Any):
+        for k, v in kw.items():
+            if not hasattr(type(self), k) and k not in ("columns_fn", "plausible_fn", "physical_fn"):
+                raise TypeError(f"Effect has no attribute {k!r}")
+            setattr(self, k, v)
+
+    # --- to implement -------------------------------------------------------------------------------------
+    def columns(self, ctx: Context, nl: dict[str, float]) -> np.ndarray:
+        fn = getattr(self, "columns_fn", None)
+        if fn is None:
+            raise NotImplementedError(f"effect {self.name}: columns() not implemented")
+        return np.asarray(fn(ctx, nl), dtype=float).reshape(ctx.n, -1)
+
+    def plausible(self, values: dict[str, float], ctx: Context) -> list[str]:
+        out = []
+        for p in self.linear:
+            v = values[p.name]
+            if not (p.lo <= v <= p.hi):
+                out.append(f"{p.name} = {v:.4g} {p.unit} outside the plausible range [{p.lo:g}, {p.hi:g}]")
+        fn = getattr(self, "plausible_fn", None)
+        if fn is not None:
+            out += list(fn(values, ctx))
+        return out
+
+    def physical(self, values: dict[str, float], stds: dict[str, float], ctx: Context) -> dict[str, tuple]:
+        fn = getattr(self, "physical_fn", None)
+        return dict(fn(values, stds, ctx)) if fn is not None else {}
+
+    def grid(self, param: Param, ctx: Context) -> np.ndarray:
+        """Values of nonlinear ``param`` searched on ``ctx``. Default: ``param.grid_values()``. Override for a
+        data-dependent grid (e.g. thresholds between the distinct peaks of a signal)."""
+        return param.grid_values()
+
+    # --- provided ------------------------------------------------------------------------------------------
+    def default_nl(self) -> dict[str, float]:
+        """Middle of each nonlinear parameter's range (geometric middle for log scale)."""
+        return {p.name: (math.sqrt(p.lo * p.hi) if p.scale == "log" else 0.5 * (p.lo + p.hi)) for p in self.nonlinear}
+
+    def evidence(self, residual: np.ndarray, ctx: Context, nl: dict[str, float] | None = None,
+                 rows: np.ndarray | None = None) -> float:
+        X = self.columns(ctx, nl or self.default_nl())
+        r = residual
+        if rows is not None:
+            X, r = X[rows], r[rows]
+        X = X - X.mean(axis=0)
+        r = r - r.mean()
+        ss = float(r @ r)
+        if ss <= 0 or not np.all(np.isfinite(X)):
+            return 0.0
+        coef, *_ = np.linalg.lstsq(X, r, rcond=None)
+        return float(max(0.0, min(1.0, 1.0 - np.sum((r - X @ coef) ** 2) / ss)))
+
+    def describe(self) -> dict:
+        return {"name": self.name, "meaning": self.meaning, "fingerprint": self.fingerprint,
+                "linear": [p.__dict__ for p in self.linear], "nonlinear": [p.__dict__ for p in self.nonlinear]}
+
+
+@dataclass(frozen=True)
+class Family:
+    """A model family: data format, base model and candidate effects.
+
+    name : str                   ``swiftfin fit NAME``.
+    description : str            one line for the report.
+    columns : tuple              required CSV columns (:class:`calibration.io.Column`: name, unit, kind).
+    target : str                 the measured quantity the model predicts (a column name, e.g. ``joint_angle_rad``).
+    target_unit : str            its unit (``rad``, ``N``, ``m``).
+    base_terms : tuple[str]      names of the base model's terms (paper's physics), for the report.
+    effects : tuple[Effect]      the candidate library.
+    load : callable(path, design, **options) -> Context   read, validate, build the context (UserError on bad data).
+    base_coef_names : tuple[str] names/units of the fitted base coefficients (one per base column), e.g.
+                                 ("mass_kg",); empty if the base model has none.
+    equivalent_effects : tuple[frozenset[str]]  groups of effects whose fingerprints the physics makes
+                                 identical in this family's data (documented; the engine still decides from
+                                 the data, this is for the report and the tests).
+    units : dict                 unit of every quantity the report prints ({"time": "s", "target": "rad", ...}).
+    """
+
+    name: str
+    description: str
+    columns: tuple
+    target: str
+    target_unit: str
+    base_terms: tuple[str, ...]
+    effects: tuple[Effect, ...]
+    load: Callable[..., Context]
+    base_coef_names: tuple[str, ...] = ()
+    equivalent_effects: tuple[frozenset, ...] = ()
+    units: dict = field(default_factory=dict)
+
+    def effect(self, name: str) -> Effect:
+        for e in self.effects:
+            if e.name == name:
+                return e
+        raise KeyError(name)
+
+
+#: family name -> module defining ``FAMILY`` (imported on first use so a missing family does not break others)
+FAMILY_MODULES: dict[str, str] = {
+    "joint": "calibration.joint",
+    "drive": "calibration.drive",
+    "body": "calibration.body",
+}
+
+
+def get_family(name: str) -> Family:
+    """The registered family ``name``. Raises KeyError naming the known families."""
+    if name not in FAMILY_MODULES:
+        raise KeyError(f"unknown family {name!r}; known: {', '.join(sorted(FAMILY_MODULES))}")
+    return importlib.import_module(FAMILY_MODULES[name]).FAMILY
+
+
+def available_families() -> list[str]:
+    """Families whose module can be imported here."""
+    out = []
+    for name, mod in FAMILY_MODULES.items():
+        try:
+            importlib.import_module(mod)
+        except ModuleNotFoundError as exc:
+            if exc.name == mod:
+                continue
+            raise
+        out.append(name)
+    return out
+
+
+@dataclass
+class FittedEffect:
+    """An effect as fitted: values and standard uncertainties of its parameters, and how it was selected."""
+
+    name: str
+    nl: dict[str, float]
+    values: dict[str, float]                 # linear and nonlinear, by parameter name
+    stds: dict[str, float]                   # 1-sigma, same keys (nan if not estimable)
+    units: dict[str, str]
+    physical: dict[str, tuple] = field(default_factory=dict)   # name -> (value, std, unit)
+    rmse_holdout_before: float = float("nan")
+    rmse_holdout_after: float = float("nan")
+    rmse_train_after: float = float("nan")
+    evidence: dict = field(default_factory=dict)
+    indistinguishable_from: list[str] = field(default_factory=list)
+    confidence: str = "high"
+
+    def to_dict(self) -> dict:
+        params = {k: {"value": self.values[k], "std": self.stds.get(k, float("nan")), "unit": self.units.get(k, "")}
+                  for k in self.values}
+        return {"name": self.name, "params": params,
+                "physical": {k: {"value": v[0], "std": v[1], "unit": v[2]} for k, v in self.physical.items()},
+                "rmse_holdout_before": self.rmse_holdout_before, "rmse_holdout_after": self.rmse_holdout_after,
+                "rmse_train_after": self.rmse_train_after, "evidence": self.evidence,
+                "indistinguishable_from": self.indistinguishable_from, "confidence": self.confidence}
+
+
+# ------------------------------------------------------------------------------------------------ diagnostics
+
+
+def _series_slices(ctx_series: np.ndarray | None, rows: np.ndarray) -> list[np.ndarray]:
+    """Row-index runs that are contiguous in time: split at series changes and at gaps in ``rows``."""
+    idx = np.flatnonzero(rows)
+    if idx.size == 0:
+        return []
+    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
+    if ctx_series is not None:
+        s = ctx_series[idx]
+        breaks = np.union1d(breaks, np.flatnonzero(np.diff(s) != 0) + 1)
+    return [a for a in np.split(idx, breaks) if a.size > 0]
+
+
+def acf(x: np.ndarray, nlags: int) -> np.ndarray:
+    """Sample autocorrelation at lags 0..nlags (biased estimator, FFT)."""
+    x = np.asarray(x, float) - np.mean(x)
+    n = x.size
+    if n < 2 or not np.any(x):
+        return np.r_[1.0, np.zeros(nlags)]
+    m = 1 << int(math.ceil(math.log2(2 * n)))
+    f = np.fft.rfft(x, m)
+    r = np.fft.irfft(f * np.conj(f), m)[: nlags + 1]
+    return r / r[0]
+
+
+def ljung_box(x: np.ndarray, nlags: int) -> tuple[float, float]:
+    """Ljung-Box statistic Q and its p-value (chi-square, ``nlags`` dof) for whiteness of ``x``."""
+    n = x.size
+    r = acf(x, nlags)[1:]
+    q = n * (n + 2) * float(np.sum(r**2 / (n - np.arange(1, nlags + 1))))
+    return q, float(stats.chi2.sf(q, nlags))
+
+
+def effective_sample_fraction(x: np.ndarray, max_lag: int = 200) -> float:
+    """n_eff / n of an autocorrelated series: 1 / (1 + 2 sum rho_k), summed until rho first drops below 0.05."""
+    r = acf(x, min(max_lag, max(1, x.size // 4)))
+    s = 0.0
+    for k in range(1, r.size):
+        if r[k] < 0.05:
+            break
+        s += r[k]
+    return 1.0 / (1.0 + 2.0 * s)
+
+
+@dataclass
+class Diagnosis:
+    """What the residual still contains. Fractions are shares of held-out residual variance.
+
+    mean_fraction : mean^2 / mean square of the held-out residual (a constant the model misses).
+    ar_predictable : explained by an AR(p) model of its own past (fitted on train rows, scored on holdout).
+    velocity_binned, position_binned : explained by its mean in 20 quantile bins of velocity / position.
+    input_xcorr_max, input_xcorr_lag_s : largest |cross-correlation| with the input's rate, and its lag.
+    ljung_box_q, ljung_box_p : whiteness test on the held-out residual (reported; with 1e4+ samples it rejects
+                               structure far below anything a model could use, hence the effect-size test).
+    white : structure_score < threshold (and, when set by the engine, structure_score_train too: the same
+            diagnosis with train and held-out rows swapped).
+    """
+
+    rmse: float
+    mean_fraction: float
+    ar_predictable: float
+    velocity_binned: float
+    position_binned: float
+    input_xcorr_max: float
+    input_xcorr_lag_s: float
+    ljung_box_q: float
+    ljung_box_p: float
+    acf: list
+    structure_score: float
+    white: bool
+    structure_score_train: float = float("nan")
+
+    def to_dict(self) -> dict:
+        return dict(self.__dict__)
+
+
+def _binned_fraction(x: np.ndarray, r: np.ndarray, train: np.ndarray, hold: np.ndarray, nbins: int = 20,
+                     max_rows: int = 200_000) -> float:
+    ti, hi = np.flatnonzero(train), np.flatnonzero(hold)
+    ti = ti[:: max(1, ti.size // max_rows)]          # bin means need no contiguity: thin very long logs
+    hi = hi[:: max(1, hi.size // max_rows)]
+    xt, rt = x[ti], r[ti]
+    if xt.size < 4 * nbins or np.ptp(xt) <= 0:
+        return 0.0
+    edges = np.unique(np.quantile(xt, np.linspace(0, 1, nbins + 1)))
+    if edges.size < 3:
+        return 0.0
+    bt = np.clip(np.searchsorted(edges, xt, side="right") - 1, 0, edges.size - 2)
+    means = np.bincount(bt, weights=rt, minlength=edges.size - 1) / np.maximum(np.bincount(bt, minlength=edges.size - 1), 1)
+    xh, rh = x[hi], r[hi]
+    bh = np.clip(np.searchsorted(edges, xh, side="right") - 1, 0, edges.size - 2)
+    ss = float(np.sum((rh - rh.mean()) ** 2))
+    if ss <= 0:
+        return 0.0
+    pred = means[bh] - np.mean(means[bh]) + rh.mean()
+    return float(max(0.0, 1.0 - np.sum((rh - pred) ** 2) / ss))
+
+
+def _ar_fraction(r: np.ndarray, series: np.ndarray | None, train: np.ndarray, hold: np.ndarray, p: int = 10,
+                 max_rows: int = 200_000) -> float:
+    def lagged(rows):
+        X, Y = [], []
+        total = 0
+        for idx in _series_slices(series, rows):
+            if idx.size <= p + 1:
+                continue
+            if total >= max_rows:
+                break
+            idx = idx[: max_rows - total + p]
+            total += idx.size
+            seg = r[idx]
+            X.append(np.column_stack([seg[p - k - 1: seg.size - k - 1] for k in range(p)]))
+            Y.append(seg[p:])
+        if not X:
+            return None, None
+        return np.vstack(X), np.concatenate(Y)
+
+    Xt, Yt = lagged(train)
+    Xh, Yh = lagged(hold)
+    if Xt is None or Xh is None:
+        return 0.0
+    mu = Yt.mean()
+    coef, *_ = np.linalg.lstsq(Xt - mu, Yt - mu, rcond=None)
+    ss = float(np.sum((Yh - Yh.mean()) ** 2))
+    if ss <= 0:
+        return 0.0
+    return float(max(0.0, 1.0 - np.sum((Yh - mu - (Xh - mu) @ coef) ** 2) / ss))
+
+
+def diagnose(ctx: Context, residual: np.ndarray, train: np.ndarray, hold: np.ndarray,
+             threshold: float = 0.15, nlags: int = 40) -> Diagnosis:
+    """Diagnose a residual: whiteness, predictability from its own past, structure against velocity, position
+    and the input (see :class:`Diagnosis`). ``structure_score`` = max(mean_fraction, ar_predictable,
+    velocity_binned, position_binned); the residual is called white when it is below ``threshold`` (default 15 %
+    of its mean square)."""
+    rh = residual[hold]
+    rmse = float(np.sqrt(np.mean(rh**2))) if rh.size else float("nan")
+    slices = _series_slices(ctx.series, hold)
+    longest = max(slices, key=len) if slices else np.arange(0)
+    lags = min(nlags, max(1, longest.size // 5))
+    a = acf(residual[longest], lags) if longest.size > 2 else np.ones(1)
+    q, pv = ljung_box(residual[longest], lags) if longest.size > lags + 2 else (float("nan"), float("nan"))
+    ar = _ar_fraction(residual, ctx.series, train, hold)
+    vb = _binned_fraction(ctx.signals["velocity"], residual, train, hold)
+    pb = _binned_fraction(ctx.signals["position"], residual, train, hold)
+    # cross-correlation of the residual with the rate of the input, lags +-0.2 s
+    xc_max, xc_lag = 0.0, 0.0
+    if longest.size > 10:
+        u = np.gradient(ctx.signals["input"][longest], ctx.t[longest])
+        e = residual[longest] - residual[longest].mean()
+        u = u - u.mean()
+        den = float(np.sqrt(np.sum(u**2) * np.sum(e**2)))
+        if den > 0:
+            dt = float(np.median(np.diff(ctx.t[longest])))
+            L = int(min(longest.size // 4, max(1, round(0.2 / dt))))
+            cc = signal.correlate(e, u, mode="full", method="fft")[longest.size - 1 - L: longest.size + L] / den
+            k = int(np.argmax(np.abs(cc)))
+            xc_max, xc_lag = float(abs(cc[k])), float((k - L) * dt)
+    ms = float(np.mean(rh**2)) if rh.size else 0.0
+    mf = float(np.mean(rh) ** 2 / ms) if ms > 0 else 0.0
+    score = max(mf, ar, vb, pb)
+    return Diagnosis(rmse, mf, ar, vb, pb, xc_max, xc_lag, q, pv, [float(v) for v in a[: min(a.size, 41)]],
+                     score, bool(score < threshold))
+
+
+# ------------------------------------------------------------------------------------------- fitting helpers
+
+
+def _rmse(e: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
+
+
+def block_test(e_before: np.ndarray, e_after: np.ndarray, n_blocks: int = 40) -> float:
+    """One-sided p-value that the mean squared error dropped, from a paired t-test on contiguous block means."""
+    d = e_before**2 - e_after**2
+    n_blocks = int(max(4, min(n_blocks, d.size // 10)))
+    if d.size < 2 * n_blocks:
+        return 1.0
+    means = np.array([b.mean() for b in np.array_split(d, n_blocks)])
+    sd = means.std(ddof=1)
+    if sd == 0:
+        return 0.0 if means.mean() > 0 else 1.0
+    tstat = means.mean() / (sd / math.sqrt(n_blocks))
+    return float(stats.t.sf(tstat, n_blocks - 1))
+
+
+def heldout_f_test(e_before: np.ndarray, e_after: np.ndarray, k: int) -> float:
+    """p-value of the held-out error drop: F = ((SSE_before - SSE_after) / k) / (SSE_after / n_eff) on (k, n_eff)
+    degrees of freedom, n_eff = n x :func:`effective_sample_fraction` of the after-residual (autocorrelation
+    shrinks the information a long log holds). Unlike the block t-test it keeps its power when the gain is
+    concentrated in a few moments (slips, reversals)."""
+    sb, sa = float(e_before @ e_before), float(e_after @ e_after)
+    n = e_after.size
+    if n < 4 or sa <= 0:
+        return 0.0 if sb > sa else 1.0
+    n_eff = max(2.0, n * effective_sample_fraction(e_after))
+    k = max(int(k), 1)
+    f = ((sb - sa) / k) / (sa / n_eff)
+    return float(stats.f.sf(f, k, n_eff)) if f > 0 else 1.0
+
+
+@dataclass
+class _Part:
+    """A record with its train / holdout row masks and its full and search-rate contexts."""
+    ctx: Context
+    train: np.ndarray
+    hold: np.ndarray
+
+
+@dataclass
+class _Model:
+    effects: list               # list[(Effect, nl dict)]
+    coef: np.ndarray            # base coefs + each effect's linear coefs, in order
+    rmse_train: float
+    rmse_hold: float
+    e_hold: np.ndarray          # concatenated holdout residuals (for block tests)
+
+
+class Calibrator:
+    """Forward-selection estimator of the effects a family's base model lacks (see the module docstring).
+
+    Parameters
+    ----------
+    family : Family or str
+    holdout_fraction : float   share of a single run held out as contiguous blocks when no holdout run is given.
+    n_blocks : int             number of contiguous blocks the run is cut into for that split.
+    min_relative_drop : float  smallest relative drop of the held-out RMSE that counts (default 0.10).
+    alpha : float              significance level of the one-sided block-paired test (default 1e-3).
+    max_effects : int          at most this many effects are added.
+    whiteness_threshold : float structure share below which the residual counts as white (default 0.15; the
+                               rigid joint model leaves ~0.06 on a clean synthetic bench log: microstep-scale dynamics).
+    max_search_samples : int   on a longer log, selection runs on contiguous windows of about this many rows in
+                               all, spread over every train and held-out block (full sample rate; windows of at
+                               least 2500 rows, the first 20 % of each a warm-up, not scored); the selected effects' nonlinear parameters are then refined,
+                               and every reported number computed, on the full data.
+    candidates : list[str] | None  restrict the library (default: all the family's effects).
+    n_refine : int             at each step every candidate is fitted on its grid; the ``n_refine`` with the lowest
+                               held-out error are refined (bounded search) and only they can be added.
+
+    Attributes (after ``fit``)
+    --------------------------
+    baseline_ : dict           {terms, coef, rmse_train, rmse_holdout}
+    added_effects_ : list[FittedEffect]  in the order added
+    final_ : dict              {rmse_train, rmse_holdout, residual_white, diagnosis}
+    unexplained_structure_ : bool
+    steps_ : list[dict]        every candidate tried at every step, with its held-out RMSE, p-value, evidence,
+                               plausibility problems and the decision (the audit trail)
+    diagnosis_before_, diagnosis_after_ : Diagnosis
+    n_samples_ : int, n_train_ : int, n_holdout_ : int, fit_time_s_ : float, search_rows_ : int
+    """
+
+    def __init__(self, family: Family | str, *, holdout_fraction: float = 0.3, n_blocks: int = 10,
+                 min_relative_drop: float = 0.10, alpha: float = 1e-3, max_effects: int = 4,
+                 whiteness_threshold: float = 0.15, max_search_samples: int = 60_000,
+                 candidates: Sequence[str] | None = None, n_test_blocks: int = 40, n_refine: int = 5):
+        self.family = get_family(family) if isinstance(family, str) else family
+        self.holdout_fraction = holdout_fraction
+        self.n_blocks = n_blocks
+        self.min_relative_drop = min_relative_drop
+        self.alpha = alpha
+        self.max_effects = max_effects
+        self.whiteness_threshold = whiteness_threshold
+        self.max_search_samples = max_search_samples
+        self.candidates = candidates
+        self.n_test_blocks = n_test_blocks
+        self.cache_limit_bytes = 300 * 2**20
+        self.n_refine = n_refine
+        self.n_windows = 24
+        self.min_window_rows = 2500
+        self.window_warmup_fraction = 0.2
+
+    # ------------------------------------------------------------------------------------------- splitting
+    def _holdout_mask(self, ctx: Context) -> np.ndarray:
+        """Contiguous time blocks: ``round(f * n_blocks)`` blocks spread evenly, by time (not row index)."""
+        f = self.holdout_fraction
+        if not 0.0 < f < 1.0:
+            raise ValueError(f"holdout fraction {f} must lie in (0, 1)")
+        nb = self.n_blocks
+        k = max(1, int(round(f * nb)))
+        chosen = np.unique(np.round(np.linspace(0, nb - 1, k + 2)[1:-1]).astype(int)) if k < nb - 1 else np.arange(1, nb)
+        t0, t1 = float(np.min(ctx.t)), float(np.max(ctx.t))
+        b = np.minimum(((ctx.t - t0) / max(t1 - t0, 1e-300) * nb).astype(int), nb - 1)
+        return np.isin(b, chosen)
+
+    def _windows(self, part: _Part, rows: int) -> _Part:
+        """Contiguous windows of a long record, about ``rows`` rows in all, at the full sample rate (decimation
+        would alias and blur delays), spread evenly inside every train and every held-out block (each block gets
+        at least one). The first ``window_warmup_fraction`` of each window is a warm-up for effects that filter
+        or carry state: neither trained on nor scored."""
+        n = part.ctx.n
+        L = int(min(n, max(self.min_window_rows, rows // self.n_windows)))
+        label = part.hold.astype(int) - (~(part.train | part.hold)).astype(int)
+        cuts = np.flatnonzero(np.diff(label) != 0) + 1
+        idx_list = []
+        for a, b in zip(np.r_[0, cuts], np.r_[cuts, n]):
+            m = b - a
+            if label[a] < 0:
+                continue
+            if m <= L:
+                idx_list.append(np.arange(a, b))
+                continue
+            k = max(1, int(round(rows * m / n / L)))
+            for s0 in np.linspace(a, b - L, k).astype(int):
+                idx_list.append(np.arange(s0, s0 + L))
+        series = np.concatenate([np.full(w.size, i) for i, w in enumerate(idx_list)])
+        warm = np.concatenate([np.arange(w.size) < int(self.window_warmup_fraction * w.size) for w in idx_list])
+        idx = np.concatenate(idx_list)
+        sub = part.ctx.select(idx, series)
+        return _Part(sub, part.train[idx] & ~warm, part.hold[idx] & ~warm)
+
+    def _parts(self, train: Context, holdout: Context | None) -> list[_Part]:
+        if holdout is None:
+            h = self._holdout_mask(train)
+            return [_Part(train, ~h, h)]
+        return [_Part(train, np.ones(train.n, bool), np.zeros(train.n, bool)),
+                _Part(holdout, np.zeros(holdout.n, bool), np.ones(holdout.n, bool))]
+
+    # ------------------------------------------------------------------------------------ model evaluation
+    @staticmethod
+    def _design(ctx: Context, effects: list) -> np.ndarray:
+        cols = [ctx.base_columns.reshape(ctx.n, -1)]
+        for eff, nl in effects:
+            X = eff.columns(ctx, nl)
+            cols.append(np.asarray(X, float).reshape(ctx.n, -1))
+        return np.hstack(cols) if cols else np.zeros((ctx.n, 0))
+
+    def _solve(self, parts: list[_Part], effects: list, designs: list | None = None):
+        """Least squares for all linear coefficients on the train rows; residuals everywhere."""
+        designs = designs if designs is not None else [self._design(p.ctx, effects) for p in parts]
+        k = designs[0].shape[1]
+        A = np.zeros((k, k))
+        bvec = np.zeros(k)
+        sst = 0.0
+        for p, X in zip(parts, designs):
+            if not p.train.any() or k == 0:
+                continue
+            Xt = X[p.train]
+            yt = (p.ctx.y - p.ctx.base)[p.train]
+            A += Xt.T @ Xt
+            bvec += Xt.T @ yt
+        if k:
+            scale = np.sqrt(np.maximum(np.diag(A), 1e-300))
+            As = A / np.outer(scale, scale)
+            coef = np.linalg.lstsq(As + 1e-12 * np.eye(k), bvec / scale, rcond=None)[0] / scale
+        else:
+            coef = np.zeros(0)
+        res = []
+        for p, X in zip(parts, designs):
+            res.append(p.ctx.y - p.ctx.base - (X @ coef if k else 0.0))
+        e_tr = np.concatenate([r[p.train] for p, r in zip(parts, res)])
+        e_ho = np.concatenate([r[p.hold] for p, r in zip(parts, res)])
+        return coef, res, e_tr, e_ho
+
+    def _evaluate(self, parts, effects) -> _Model:
+        coef, _, e_tr, e_ho = self._solve(parts, effects)
+        return _Model(list(effects), coef, _rmse(e_tr), _rmse(e_ho), e_ho)
+
+    # ----------------------------------------------------------------------------- nonlinear search
+    def _fit_candidate(self, parts: list[_Part], active: list, eff: Effect, refine: bool = True
+                       ) -> tuple[dict, _Model, list]:
+        """Profile search over ``eff``'s nonlinear parameters (linear ones solved inside), then bounded refinement.
+
+        Returns the best nonlinear values, the model, and the profile [(nl, sse_train)]."""
+        Ft = np.vstack([self._design(p.ctx, active)[p.train] for p in parts if p.train.any()])
+        yt = np.concatenate([(p.ctx.y - p.ctx.base)[p.train] for p in parts if p.train.any()])
+        FtF, Fty, yty = Ft.T @ Ft, Ft.T @ yt, float(yt @ yt)
+        profile = []
+
+        cache = getattr(self, "_cache", None)
+
+        def sse(nl, cacheable=False):
+            key = (eff.name, tuple(sorted(nl.items())))
+            C = cache.get(key) if cache is not None else None
+            if C is None:
+                C = np.vstack([np.asarray(eff.columns(p.ctx, nl), float).reshape(p.ctx.n, -1)[p.train]
+                               for p in parts if p.train.any()])
+                if cacheable and cache is not None and self._cache_bytes + C.nbytes < self.cache_limit_bytes:
+                    cache[key] = C
+                    self._cache_bytes += C.nbytes
+            if not np.all(np.isfinite(C)):
+                v = float("inf")
+            else:
+                FC = Ft.T @ C
+                A = np.block([[FtF, FC], [FC.T, C.T @ C]])
+                bv = np.r_[Fty, C.T @ yt]
+                sc = np.sqrt(np.maximum(np.diag(A), 1e-300))
+                coef = np.linalg.lstsq(A / np.outer(sc, sc) + 1e-12 * np.eye(sc.size), bv / sc, rcond=None)[0] / sc
+                v = float(max(yty - 2 * coef @ bv + coef @ A @ coef, 0.0))
+            profile.append((dict(nl), v))
+            return v
+
+        if not eff.nonlinear:
+            best = {}
+            sse(best)
+        else:
+            grids = [np.asarray(eff.grid(p, parts[0].ctx), float) for p in eff.nonlinear]
+            mesh = np.meshgrid(*grids, indexing="ij")
+            pts = np.column_stack([m.ravel() for m in mesh])
+            vals = [sse({p.name: float(v) for p, v in zip(eff.nonlinear, row)}, cacheable=True) for row in pts]
+            i = int(np.argmin(vals))
+            best = {p.name: float(v) for p, v in zip(eff.nonlinear, pts[i])}
+            if refine:
+                best = self._refine(eff, best, grids, sse)
+        model = self._evaluate(parts, active + [(eff, best)])
+        return best, model, profile
+
+    @staticmethod
+    def _refine(eff: Effect, start: dict, grids: list, sse: Callable, xatol: float = 1e-4, maxiter: int = 30) -> dict:
+        """Bounded refinement around the best grid point: Brent on one parameter, Powell on several,
+        in log coordinates for log-scaled parameters, within the neighbouring grid cells."""
+        params = eff.nonlinear
+        if not all(p.refine for p in params):
+            return start
+        lo, hi, x0 = [], [], []
+        for p, g in zip(params, grids):
+            v = start[p.name]
+            j = int(np.argmin(np.abs(g - v)))
+            a, b = g[max(j - 1, 0)], g[min(j + 1, g.size - 1)]
+            tr = (np.log if p.scale == "log" else (lambda z: z))
+            lo.append(float(tr(a)))
+            hi.append(float(tr(b)))
+            x0.append(float(tr(v)))
+
+        def unpack(x):
+            return {p.name: float(np.exp(xi) if p.scale == "log" else xi) for p, xi in zip(params, x)}
+
+        if len(params) == 1:
+            if hi[0] <= lo[0]:
+                return start
+            r = optimize.minimize_scalar(lambda z: sse(unpack([z])), bounds=(lo[0], hi[0]), method="bounded",
+                                         options={"xatol": xatol * (hi[0] - lo[0]), "maxiter": maxiter})
+            cand = unpack([r.x])
+        else:
+            r = optimize.minimize(lambda x: sse(unpack(x)), x0, method="Powell", bounds=list(zip(lo, hi)),
+                                  options={"maxfev": 60 * len(params), "xtol": 1e-3})
+            cand = unpack(r.x)
+        return cand if sse(cand) <= sse(start) else start
+
+    # ------------------------------------------------------------------------------------- uncertainties
+    def _uncertainties(self, parts: list[_Part], effects: list, coef: np.ndarray) -> tuple[np.ndarray, list[dict]]:
+        """Standard uncertainties: Jacobian [X, d y_hat / d nl] of the train rows, covariance
+        sigma^2 (J^T J)^-1 inflated by n / n_eff (residual autocorrelation). A nonlinear parameter whose
+        finite-difference column vanishes (a threshold) gets its std from the profile (Delta chi^2 = 1)."""
+        _, res, e_tr, _ = self._solve(parts, effects)
+        n = e_tr.size
+        k_lin = coef.size
+        nl_keys = [(i, p) for i, (eff, nl) in enumerate(effects) for p in eff.nonlinear]
+        infl = 1.0 / max(effective_sample_fraction(e_tr), 1e-3)
+        sigma2 = float(e_tr @ e_tr) / max(n - k_lin - len(nl_keys), 1)
+
+        def prediction(eff_list):
+            c, rs, _, _ = self._solve(parts, eff_list)
+            return np.concatenate([(p.ctx.y - r)[p.train] for p, r in zip(parts, rs)])
+
+        Xs = np.vstack([self._design(p.ctx, effects)[p.train] for p in parts if p.train.any()])
+        jac_cols = [Xs]
+        nl_std_profile: dict[tuple[int, str], float] = {}
+        dead: list[tuple[int, str]] = []
+        for i, p in nl_keys:
+            eff, nl = effects[i]
+            v = nl[p.name]
+            h = (abs(v) * 1e-3 if p.scale == "log" else 1e-3 * (p.hi - p.lo)) or 1e-6
+
+            def with_value(x):
+                e2 = list(effects)
+                nl2 = dict(nl)
+                nl2[p.name] = x
+                e2[i] = (eff, nl2)
+                return e2
+
+            # Jacobian of the model with the linear coefficients held at their values
+            def fixed_pred(x):
+                return np.concatenate([(p_.ctx.base + self._design(p_.ctx, with_value(x)) @ coef)[p_.train]
+                                       for p_ in parts if p_.train.any()])
+            col = (fixed_pred(v + h) - fixed_pred(v - h)) / (2 * h)
+            if not np.any(np.abs(col) > 0) or not np.all(np.isfinite(col)):
+                dead.append((i, p.name))
+                # profile: smallest step either way that raises chi^2 by 1
+                s0 = float(e_tr @ e_tr)
+                thr = s0 + sigma2 * infl
+                widths = []
+                for direction in (-1, 1):
+                    step = h * 10
+                    x = v
+                    while True:
+                        x = v + direction * step
+                        if x < p.lo or x > p.hi:
+                            widths.append(abs(x - v))
+                            break
+                        r = prediction(with_value(x))
+                        y = np.concatenate([p_.ctx.y[p_.train] for p_ in parts if p_.train.any()])
+                        if float(np.sum((y - r) ** 2)) > thr or step > (p.hi - p.lo):
+                            widths.append(step)
+                            break
+                        step *= 2
+                nl_std_profile[(i, p.name)] = float(min(widths))
+                continue
+            jac_cols.append(col[:, None])
+        J = np.hstack(jac_cols)
+        try:
+            cov = np.linalg.pinv(J.T @ J) * sigma2 * infl
+            std_all = np.sqrt(np.maximum(np.diag(cov), 0.0))
+        except np.linalg.LinAlgError:
+            std_all = np.full(J.shape[1], np.nan)
+        lin_std = std_all[:k_lin]
+        out = [dict() for _ in effects]
+        j = k_lin
+        for i, p in nl_keys:
+            if (i, p.name) in nl_std_profile:
+                out[i][p.name] = nl_std_profile[(i, p.name)]
+            else:
+                out[i][p.name] = float(std_all[j])
+                j += 1
+        return lin_std, out
+
+    # ---------------------------------------------------------------------------------------------- fit
+    def fit(self, train: Context, holdout: Context | None = None) -> "Calibrator":
+        """Fit the base model, then add effects by forward selection (criterion in the module docstring).
+
+        BLAS runs single-threaded inside: the products are tall and thin (n x a few columns), where threads
+        only add overhead (x1000 measured on a loaded 2-core machine)."""
+        with _single_thread_blas():
+            return self._fit(train, holdout)
+
+    def _fit(self, train: Context, holdout: Context | None) -> "Calibrator":
+        t_start = time.perf_counter()
+        fam = self.family
+        cands = [e for e in fam.effects if self.candidates is None or e.name in self.candidates]
+        parts_full = self._parts(train, holdout)
+        if holdout is None:
+            t0, t1 = float(np.min(train.t)), float(np.max(train.t))
+            h = parts_full[0].hold
+            blocks = sorted(set(np.minimum(((train.t[h] - t0) / max(t1 - t0, 1e-300) * self.n_blocks).astype(int),
+                                           self.n_blocks - 1).tolist()))
+            self.holdout_description_ = (f"contiguous time blocks {[b + 1 for b in blocks]} of {self.n_blocks} equal "
+                                         f"blocks of {train.source} ({100 * h.mean():.0f} % of the run)")
+        else:
+            self.holdout_description_ = f"separate run {holdout.source}"
+        n_total = sum(p.ctx.n for p in parts_full)
+        if n_total > self.max_search_samples:
+            parts = [self._windows(p, self.max_search_samples * p.ctx.n // n_total) for p in parts_full]
+            self.search_rows_ = int(sum(p.ctx.n for p in parts))
+        else:
+            parts = parts_full
+            self.search_rows_ = n_total
+        self._pending = {}
+        self._cache: dict = {}      # train-row columns of grid points, reused across selection steps
+        self._cache_bytes = 0
+        if not any(p.hold.any() for p in parts) or not any(p.train.any() for p in parts):
+            raise ValueError("no held-out or no training rows")
+
+        active: list = []
+        removed: set[str] = set()
+        current = self._evaluate(parts, active)
+        self.steps_ = []
+        for _iteration in range(3 * len(cands) + 1):
+            if len(active) >= self.max_effects:
+                break
+            diag = self._diagnose_parts(parts, current)
+            if diag.white:
+                break
+            step = {"rmse_holdout": current.rmse_hold, "structure_score": diag.structure_score, "candidates": []}
+            trials = []
+            names_active = {e.name for e, _ in active} | removed
+            _, res_now, _, _ = self._solve(parts, active)
+            # stage 1: grid search of every candidate; stage 2: refine the most promising ones
+            screened = []
+            for eff in cands:
+                if eff.name in names_active:
+                    continue
+                try:
+                    nl, model, _ = self._fit_candidate(parts, active, eff, refine=False)
+                except (np.linalg.LinAlgError, ValueError, FloatingPointError) as exc:
+                    step["candidates"].append({"name": eff.name, "error": str(exc)})
+                    continue
+                screened.append((eff, nl, model))
+            screened.sort(key=lambda x: x[2].rmse_hold)
+            for rank, (eff, nl, model) in enumerate(screened):
+                if rank < self.n_refine and eff.nonlinear:
+                    nl, model, _ = self._fit_candidate(parts, active, eff, refine=True)
+                k0 = current.coef.size
+                lin = dict(zip([p.name for p in eff.linear], model.coef[k0:k0 + len(eff.linear)]))
+                values = {**lin, **nl}
+                problems = list(eff.plausible(values, parts[0].ctx))
+                for p in eff.nonlinear:
+                    span = p.hi - p.lo if p.scale == "lin" else math.log(p.hi / p.lo)
+                    pos = (nl[p.name] - p.lo) if p.scale == "lin" else math.log(nl[p.name] / p.lo)
+                    if p.grid > 1 and (pos < 0.01 * span or pos > 0.99 * span):
+                        problems.append(f"{p.name} = {nl[p.name]:.4g} {p.unit} pinned at a bound "
+                                        f"[{p.lo:g}, {p.hi:g}]")
+                drop = 1.0 - model.rmse_hold / current.rmse_hold if current.rmse_hold > 0 else 0.0
+                k_eff = len(eff.linear) + len(eff.nonlinear)
+                pval = heldout_f_test(current.e_hold, model.e_hold, k_eff)
+                p_block = block_test(current.e_hold, model.e_hold, self.n_test_blocks)
+                ev = float(np.mean([eff.evidence(r, p.ctx, nl, p.train) for p, r in zip(parts, res_now)
+                                    if p.train.any()]))
+                ok = drop > self.min_relative_drop and pval < self.alpha and not problems
+                if rank >= self.n_refine and eff.nonlinear:
+                    ok = False      # not among the best on the grid: not refined, cannot win
+                trials.append((eff, nl, model, values, drop, pval, ev, problems, ok))
+                step["candidates"].append({"name": eff.name, "rmse_holdout": model.rmse_hold,
+                                           "rmse_train": model.rmse_train, "relative_drop": drop,
+                                           "p_value": pval, "p_value_blocks": p_block, "fingerprint_score": ev,
+                                           "plausibility": problems, "values": values, "refined": rank < self.n_refine,
+                                           "accepted_if_best": ok})
+            good = [tr for tr in trials if tr[8]]
+            if not good:
+                step["decision"] = "stop: no candidate lowers the held-out error significantly with plausible values"
+                self.steps_.append(step)
+                break
+            best = min(good, key=lambda tr: tr[2].rmse_hold)
+            rivals = []
+            for tr in trials:
+                if tr[0] is best[0] or not tr[8]:
+                    continue
+                p_rival = block_test(tr[2].e_hold, best[2].e_hold, self.n_test_blocks)
+                if p_rival > 0.05 or tr[2].rmse_hold <= best[2].rmse_hold * 1.01:
+                    rivals.append(tr[0].name)
+            eff, nl = best[0], best[1]
+            active.append((eff, nl))
+            step["decision"] = f"add {eff.name}"
+            step["indistinguishable_from"] = rivals
+            self.steps_.append(step)
+            self._pending[eff.name] = {"evidence": {"relative_drop": best[4], "p_value": best[5],
+                                                    "fingerprint_score": best[6]},
+                                       "indistinguishable_from": rivals}
+            current = best[2]
+            if len(active) > 1:
+                # an earlier effect's nonlinear values were fitted without this one: refine them now
+                active = self._polish(parts, active)
+                current = self._evaluate(parts, active)
+            active, current = self._prune(parts, active, current, removed)
+
+        # ---- everything reported is computed on the full data
+        self._cache = {}
+        # final refinement of the nonlinear values on all rows (tight on a short log, coarser on a long one)
+        if parts is not parts_full:
+            active = self._refine_full(parts_full, active, xatol=1e-4, maxiter=16)
+        else:
+            active = self._refine_full(parts_full, active, xatol=1e-7, maxiter=40)
+        self._finish(parts_full, active)
+        self.fit_time_s_ = time.perf_counter() - t_start
+        return self
+
+    def _prune(self, parts, active, current, removed):
+        """Backward elimination after each addition: an earlier effect that, given the others, no longer lowers
+        the held-out error by the margin (or significantly), or whose refitted values became implausible, is
+        removed (weakest first) and never re-added. Guards forward selection against an early wrong pick that
+        only stood in for effects found later."""
+        while len(active) > 1:
+            worst = None
+            k_base = parts[0].ctx.base_columns.reshape(parts[0].ctx.n, -1).shape[1]
+            offsets = np.cumsum([k_base] + [len(e.linear) for e, _ in active])
+            for i, (eff, nl) in enumerate(active[:-1]):
+                without = self._evaluate(parts, active[:i] + active[i + 1:])
+                drop = 1.0 - current.rmse_hold / without.rmse_hold if without.rmse_hold > 0 else 0.0
+                pval = heldout_f_test(without.e_hold, current.e_hold, len(eff.linear) + len(eff.nonlinear))
+                lin = dict(zip([p.name for p in eff.linear], current.coef[offsets[i]:offsets[i + 1]]))
+                problems = eff.plausible({**lin, **nl}, parts[0].ctx)
+                if drop < self.min_relative_drop or pval >= self.alpha or problems:
+                    if worst is None or drop < worst[1]:
+                        worst = (i, drop, pval, problems, without)
+            if worst is None:
+                break
+            i, drop, pval, problems, without = worst
+            name = active[i][0].name
+            self.steps_.append({"decision": f"remove {name}", "relative_drop_given_others": drop, "p_value": pval,
+                                "plausibility": problems})
+            removed.add(name)
+            self._pending.pop(name, None)
+            active = active[:i] + active[i + 1:]
+            current = without
+        return active, current
+
+    def _refine_full(self, parts, active, xatol: float = 1e-4, maxiter: int = 16):
+        """After a selection on every k-th row: refine each effect's nonlinear parameters on all rows (bounded
+        search around the selection's value, the other effects fixed), so no reported value carries the
+        decimation's interpolation error."""
+        for i, (eff, nl) in enumerate(list(active)):
+            if not eff.nonlinear or not all(p.refine for p in eff.nonlinear):
+                continue
+            others = active[:i] + active[i + 1:]
+            fixed = [self._design(p.ctx, others) for p in parts]
+
+            def sse(nl_try, eff=eff, fixed=fixed):
+                designs = [np.hstack([F[:, :0] if F.size == 0 else F,
+                                      np.asarray(eff.columns(p.ctx, nl_try), float).reshape(p.ctx.n, -1)])
+                           for p, F in zip(parts, fixed)]
+                _, _, e_tr, _ = self._solve(parts, others + [(eff, nl_try)], designs)
+                return float(e_tr @ e_tr)
+            # bracket: the grid cell around the value, then a narrower search
+            grids = []
+            for p in eff.nonlinear:
+                v = nl[p.name]
+                if p.scale == "log":
+                    grids.append(np.array([max(p.lo, v / 1.3), v, min(p.hi, v * 1.3)]))
+                else:
+                    w = 0.05 * (p.hi - p.lo)
+                    grids.append(np.array([max(p.lo, v - w), v, min(p.hi, v + w)]))
+            active[i] = (eff, self._refine(eff, nl, grids, sse, xatol=xatol, maxiter=maxiter))
+        return active
+
+    def _polish(self, parts, active):
+        for i, (eff, nl) in enumerate(list(active)):
+            if not eff.nonlinear:
+                continue
+            others = active[:i] + active[i + 1:]
+
+            def sse(nl_try, eff=eff, others=others):
+                _, _, e_tr, _ = self._solve(parts, others + [(eff, nl_try)])
+                return float(e_tr @ e_tr)
+            grids = [np.asarray(eff.grid(p, parts[0].ctx), float) for p in eff.nonlinear]
+            active[i] = (eff, self._refine(eff, nl, grids, sse))
+        return active
+
+    def _diagnose_parts(self, parts, model_or_effects) -> Diagnosis:
+        effects = model_or_effects.effects if isinstance(model_or_effects, _Model) else model_or_effects
+        _, res, _, _ = self._solve(parts, effects)
+        # held-out rows: AR / bins learnt on the train rows, scored on the held-out rows; and the same with the
+        # roles swapped, so structure confined to the training rows (e.g. slips that happen to fall only there)
+        # is not called white
+        if len(parts) == 1:
+            ctx, r, tr, ho = parts[0].ctx, res[0], parts[0].train, parts[0].hold
+        else:
+            ctx = _concat_contexts([p.ctx for p in parts])
+            r = np.concatenate(res)
+            tr = np.concatenate([p.train for p in parts])
+            ho = np.concatenate([p.hold for p in parts])
+        dg = diagnose(ctx, r, tr, ho, self.whiteness_threshold)
+        swapped = diagnose(ctx, r, ho, tr, self.whiteness_threshold)
+        dg.structure_score_train = swapped.structure_score
+        dg.white = bool(dg.white and swapped.white)
+        return dg
+
+    def _finish(self, parts, active):
+        fam = self.family
+        self.n_samples_ = int(sum(p.ctx.n for p in parts))
+        self.n_train_ = int(sum(p.train.sum() for p in parts))
+        self.n_holdout_ = int(sum(p.hold.sum() for p in parts))
+        base = self._evaluate(parts, [])
+        self.baseline_ = {"terms": list(fam.base_terms),
+                          "coef": {n: float(v) for n, v in zip(fam.base_coef_names, base.coef)},
+                          "rmse_train": base.rmse_train, "rmse_holdout": base.rmse_hold}
+        self.diagnosis_before_ = self._diagnose_parts(parts, [])
+        pending = getattr(self, "_pending", {})
+        self._pending = {}
+        self.added_effects_ = []
+        prev = base
+        for j, (eff, nl) in enumerate(active):
+            model = self._evaluate(parts, active[: j + 1])
+            meta = pending.get(eff.name, {"evidence": {}, "indistinguishable_from": []})
+            fe = FittedEffect(eff.name, dict(nl), {}, {}, {}, rmse_holdout_before=prev.rmse_hold,
+                              rmse_holdout_after=model.rmse_hold, rmse_train_after=model.rmse_train,
+                              evidence=dict(meta["evidence"]), indistinguishable_from=list(meta["indistinguishable_from"]))
+            fe.evidence["relative_drop_full"] = 1.0 - model.rmse_hold / prev.rmse_hold if prev.rmse_hold > 0 else 0.0
+            fe.evidence["p_value_full"] = heldout_f_test(prev.e_hold, model.e_hold, len(eff.linear) + len(eff.nonlinear))
+            fe.evidence["p_value_blocks_full"] = block_test(prev.e_hold, model.e_hold, self.n_test_blocks)
+            self.added_effects_.append(fe)
+            prev = model
+        final = prev
+        lin_std, nl_std = (self._uncertainties(parts, active, final.coef) if final.coef.size or active
+                           else (np.zeros(0), []))
+        k = len(fam.base_coef_names) if fam.base_coef_names else parts[0].ctx.base_columns.reshape(parts[0].ctx.n, -1).shape[1]
+        self.baseline_["coef_final"] = {n: {"value": float(final.coef[i]), "std": float(lin_std[i])}
+                                        for i, n in enumerate(fam.base_coef_names)}
+        for j, (eff, nl) in enumerate(active):
+            fe = self.added_effects_[j]
+            for p in eff.linear:
+                fe.values[p.name] = float(final.coef[k])
+                fe.stds[p.name] = float(lin_std[k])
+                fe.units[p.name] = p.unit
+                k += 1
+            for p in eff.nonlinear:
+                fe.values[p.name] = float(nl[p.name])
+                fe.stds[p.name] = float(nl_std[j][p.name])
+                fe.units[p.name] = p.unit
+            fe.physical = eff.physical(fe.values, fe.stds, parts[0].ctx)
+            problems = eff.plausible(fe.values, parts[0].ctx)
+            low = (fe.indistinguishable_from or problems or fe.evidence.get("relative_drop_full", 0) < 0.10
+                   or fe.evidence.get("p_value_full", 1) > self.alpha)
+            fe.confidence = "low" if low else "high"
+            if problems:
+                fe.evidence["plausibility_on_full_data"] = problems
+        self.coef_ = final.coef
+        self.effects_ = list(active)
+        self.diagnosis_after_ = self._diagnose_parts(parts, active)
+        self.final_ = {"rmse_train": final.rmse_train, "rmse_holdout": final.rmse_hold,
+                       "residual_white": self.diagnosis_after_.white}
+        self.unexplained_structure_ = not self.diagnosis_after_.white
+        self._parts_full = parts
+
+    # ------------------------------------------------------------------------------------------ use
+    def _hint(self) -> dict | None:
+        """When structure is left: the candidate that best lowers the *training* error at the last step, with
+        why it was not added (not validated on held-out data, or implausible). A lead, not a finding."""
+        if not self.unexplained_structure_ or not self.steps_ or "candidates" not in self.steps_[-1]:
+            return None
+        last = self.steps_[-1]
+        cands = [c for c in last["candidates"] if "rmse_train" in c]
+        if not cands:
+            return None
+        c = min(cands, key=lambda c: c["rmse_train"])
+        rmse_now = self.final_["rmse_train"]
+        if not c["rmse_train"] < 0.9 * rmse_now:
+            return None
+        why = "; ".join(c["plausibility"]) or (f"held-out error changed by {-100 * c['relative_drop']:+.1f} % "
+                                               f"(p = {c['p_value']:.2g}): not validated on held-out data")
+        return {"name": c["name"], "rmse_train": c["rmse_train"], "rmse_train_now": rmse_now,
+                "values": c["values"], "why_not_added": why}
+
+    def predict(self, ctx: Context, n_effects: int | None = None) -> np.ndarray:
+        """Model prediction on a context with the fitted coefficients (the first ``n_effects`` effects only:
+        their coefficients are refitted on the training rows so the partial model is the one reported)."""
+        effs = self.effects_ if n_effects is None else self.effects_[:n_effects]
+        if n_effects is None or n_effects == len(self.effects_):
+            coef = self.coef_
+        else:
+            coef, _, _, _ = self._solve(self._parts_full, effs)
+        X = self._design(ctx, effs)
+        return ctx.base + (X @ coef if coef.size else 0.0)
+
+    def residual(self, ctx: Context, n_effects: int | None = None) -> np.ndarray:
+        return ctx.y - self.predict(ctx, n_effects)
+
+    def report_dict(self) -> dict:
+        """The content of ``fit_report.json`` (see :mod:`calibration.report`)."""
+        fam = self.family
+        return {
+            "family": fam.name,
+            "description": fam.description,
+            "n_samples": self.n_samples_,
+            "n_train": self.n_train_,
+            "n_holdout": self.n_holdout_,
+            "holdout": getattr(self, "holdout_description_", ""),
+            "baseline": self.baseline_,
+            "added_effects": [fe.to_dict() for fe in self.added_effects_],
+            "final": {**self.final_, "diagnosis": self.diagnosis_after_.to_dict()},
+            "baseline_diagnosis": self.diagnosis_before_.to_dict(),
+            "unexplained_structure": bool(self.unexplained_structure_),
+            "units": {"target": fam.target_unit, "rmse": fam.target_unit, "time": "s", **fam.units},
+            "criterion": {"min_relative_drop": self.min_relative_drop, "alpha": self.alpha,
+                          "test": "F-test of the held-out SSE drop on (k, n_eff) dof, n_eff from the residual autocorrelation",
+                          "n_test_blocks": self.n_test_blocks, "whiteness_threshold": self.whiteness_threshold,
+                          "max_effects": self.max_effects},
+            "equivalent_effects": [sorted(g) for g in fam.equivalent_effects],
+            "unvalidated_hint": self._hint(),
+            "steps": _jsonable(self.steps_),
+            "search_rows": self.search_rows_,
+            "fit_time_s": self.fit_time_s_,
+        }
+
+
+def _single_thread_blas():
+    try:
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover - optional speed-up
+        import contextlib
+        return contextlib.nullcontext()
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+def _concat_contexts(ctxs: list[Context]) -> Context:
+    """Stack records into one context for diagnostics; each record becomes its own series."""
+    series = []
+    offset = 0
+    for c in ctxs:
+        s = np.zeros(c.n, int) if c.series is None else c.series - c.series.min()
+        series.append(s + offset)
+        offset = int(series[-1].max()) + 1 if c.n else offset
+    keys = set(ctxs[0].signals)
+    for c in ctxs[1:]:
+        keys &= set(c.signals)
+    return Context(np.concatenate([c.t for c in ctxs]), np.concatenate([c.y for c in ctxs]),
+                   np.concatenate([c.base for c in ctxs]),
+                   np.vstack([c.base_columns.reshape(c.n, -1) for c in ctxs]),
+                   {k: np.concatenate([c.signals[k] for c in ctxs]) for k in keys},
+                   " + ".join(c.source for c in ctxs), np.concatenate(series), dict(ctxs[0].meta))
+
+
+def _jsonable(x):
+    if isinstance(x, dict):
+        return {str(k): _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, (np.floating, float)):
+        v = float(x)
+        return v if math.isfinite(v) else None
+    if isinstance(x, (np.integer,)):
+        return int(x)
+    if isinstance(x, np.bool_):
+        return bool(x)
+    return x
+
+
+__all__ = ["Param", "Context", "Effect", "Family", "FittedEffect", "Calibrator", "Diagnosis", "diagnose",
+           "acf", "ljung_box", "block_test", "heldout_f_test", "effective_sample_fraction", "get_family", "available_families",
+           "FAMILY_MODULES"]

@@ -1,0 +1,448 @@
+"""The ``joint`` family: a capstan-driven tail joint on the bench (or in the water).
+
+Data: CSV ``time_s,motor_angle_rad,joint_angle_rad`` (motor angle as commanded to the stepper, joint angle as
+measured by a sensor on the hinge; extra columns ignored).
+
+Base model (paper §3.4, eq. 48, and §2.3.2): a rigid capstan. The stepper moves in microsteps
+q = full_step / microsteps, so the motor angle is q round(phi / q); the spool of radius r_spool pays out
+r_spool phi of cable and the tendon sector of radius d_mount (the tendon moment arm) turns by
+
+    theta_rigid = (r_spool / d_mount) q round(phi / q).
+
+No coefficient is fitted: the radii come from the design file.
+
+Physics of the departures (what the effects model). The stepper is position-commanded and the cable is stiff,
+so joint-side loads (friction, drag, inertia) reach the joint angle only through the cable's compliance:
+theta = theta_rigid - tau_load / K, with K = (k_a + k_b) d_mount^2 the pull-pull stiffness at the joint and
+k = E A / L of each side (E, A from ``cable.*``, L the route length of :func:`cad.layout.cable_routes`).
+This fixes what can and cannot be told apart from the joint angle alone:
+
+* ``cable_compliance`` and ``added_mass`` both change J / K, the only inertial quantity visible in a
+  position log. They differ only through the bench link's bearing damping, which a softer cable makes visible
+  (T1 = c0 / K grows with 1/K) and added mass does not; the effect's ``gain`` (1 when the mechanism's shape is
+  right) then rejects the wrong one. On the default bench both are identified; with a heavily damped link they
+  would not be.
+* ``coulomb_friction`` seen through the cable is the play operator of half-width tau_c / K; a ``backlash`` dead
+  band held by friction (spool loose on the shaft flat, set screw) is the play operator of half-width gap / 2.
+  Identical fingerprints in a joint-angle log: the engine names one and reports the other as
+  ``indistinguishable_from``. A motor-side encoder or a torque measurement would separate them.
+* ``viscous_friction`` (first-order lag c / K) and ``sensor_delay`` (pure delay) agree to first order in
+  frequency; the bench command's small high-frequency components (up to 14 Hz) separate them through the
+  second-order term (a lag loses gain, a delay does not).
+* ``lost_steps`` are predicted from the commanded acceleration crossing a threshold; peaks within ~2 % of it
+  cannot be classified from a quantised command log, and each misclassified one leaves a 4-full-step offset.
+
+Every dynamic effect is modelled with the bare link's own dynamics (J0, c0 below and K from the design), so a
+fitted parameter is the physical one (an inertia, a damping, a stiffness factor) and not a lumped lag.
+
+Bench constants of the test link (not design parameters; change them with the link): see
+:data:`BENCH_LINK_INERTIA_KG_M2` and :data:`BENCH_BEARING_DAMPING_NM_S_RAD`.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from cad.layout import cable_routes, spool_dims
+from calibration import effects as op
+from calibration.engine import Context, Effect, Family, Param
+from calibration.io import Column, read_log
+from physics.capstan import cable_stiffness_n_m
+from physics.kinematics import joint_resolution_rad
+from swiftfin.errors import UserError
+from swiftfin.schema import Params
+
+#: Inertia of the bare bench link about the hinge [kg m^2]: a 10 g printed arm with the sensor magnet,
+#: centre of mass 24 mm from the hinge (0.010 x 0.024^2 = 5.8e-6). Estimate; weigh yours.
+BENCH_LINK_INERTIA_KG_M2 = 6.0e-6
+#: Viscous damping of the hinge bearing in air [N m s/rad] (steel pin in a printed bore, greased).
+#: Estimate giving a damping ratio ~0.03 on the default design (caudal joint).
+BENCH_BEARING_DAMPING_NM_S_RAD = 2.0e-4
+#: A stepper that loses synchronism slips by one electrical cycle, 4 full steps.
+SLIP_FULL_STEPS = 4
+#: A slip is not instantaneous: the rotor swings through one electrical cycle against the load in about 10 ms
+#: (an estimate: a quarter period of a ~25 Hz pull-in oscillation of rotor plus reflected link). Modelled as a
+#: raised-cosine ramp of this duration, in the simulator and in the ``lost_steps`` effect alike. The slip times
+#: the model infers from the commanded acceleration are off by up to ~0.7 ms on the bench log, which leaves
+#: structure after each slip (reported as unexplained structure).
+SLIP_DURATION_S = 0.010
+
+
+def slip_signal(t: np.ndarray, acceleration: np.ndarray, threshold: float, at: np.ndarray | None = None) -> np.ndarray:
+    """Signed cumulative slip count (in slips) with each slip a raised-cosine ramp over :data:`SLIP_DURATION_S`
+    starting where |acceleration| crosses ``threshold`` (interpolated between samples), evaluated at times ``at``
+    (default ``t``)."""
+    times, signs = op.threshold_crossings(t, acceleration, threshold)
+    return op.ramped_steps(t if at is None else at, times, signs, SLIP_DURATION_S)
+
+
+COLUMNS = (
+    Column("time_s", "s", "time", doc="time"),
+    Column("motor_angle_rad", "rad", "angle", 4 * math.pi, "commanded motor angle"),
+    Column("joint_angle_rad", "rad", "angle", math.pi / 2, "joint angle"),
+)
+
+
+@dataclass(frozen=True)
+class JointDesign:
+    """The design numbers the joint family needs, in SI."""
+
+    joint: int                     # 0-based joint index
+    spool_radius_m: float
+    moment_arm_m: float
+    ratio: float                   # r_spool / d_mount: joint rad per motor rad
+    full_step_rad: float
+    microstep_rad: float           # motor angle of one microstep
+    joint_microstep_rad: float
+    route_length_m: float          # mean free length of the two cables
+    side_stiffness_n_m: float      # E A / L of one side
+    stiffness_nm_rad: float        # K = 2 k d_mount^2 at the joint
+    pretension_n: float
+    youngs_modulus_gpa: float
+    link_inertia_kg_m2: float = BENCH_LINK_INERTIA_KG_M2
+    bearing_damping_nm_s_rad: float = BENCH_BEARING_DAMPING_NM_S_RAD
+
+    @property
+    def slip_quantum_rad(self) -> float:
+        """Joint angle lost in one slip of 4 full steps [rad]."""
+        return SLIP_FULL_STEPS * self.full_step_rad * self.ratio
+
+
+def joint_design(p: Params, joint: int | None = None) -> JointDesign:
+    """Design constants of joint ``joint`` (0-based; default the last, the caudal joint with the longest cable)."""
+    n = p.joints.count
+    j = n - 1 if joint is None else joint
+    if not 0 <= j < n:
+        raise UserError(f"--joint {j + 1}: the design has joints 1..{n}")
+    r = spool_dims(p).drum_radius_mm / 1000.0
+    m = p.joints.tendon_moment_arm_mm / 1000.0
+    full = math.radians(p.motor.full_step_deg)
+    q = full / p.motor.microsteps
+    lengths = [rt.length_mm / 1000.0 for rt in cable_routes(p) if rt.joint == j]
+    L = float(np.mean(lengths))
+    k = cable_stiffness_n_m(p.cable.youngs_modulus_gpa * 1e9, p.cable.diameter_mm / 1000.0, L)
+    return JointDesign(j, r, m, r / m, full, q, joint_resolution_rad(full, p.motor.microsteps, m, r), L, k,
+                       2.0 * k * m * m, p.cable.pretension_n, p.cable.youngs_modulus_gpa)
+
+
+def rigid_joint_angle(motor_angle_rad: np.ndarray, d: JointDesign) -> np.ndarray:
+    """Base model: (r_spool / d_mount) q round(phi / q) [rad] (eq. 48 inverted)."""
+    return d.ratio * d.microstep_rad * np.rint(np.asarray(motor_angle_rad, float) / d.microstep_rad)
+
+
+def joint_context(t: np.ndarray, motor: np.ndarray, joint: np.ndarray, d: JointDesign, source: str = "<memory>") -> Context:
+    """Context for the joint family from arrays (the loader's second half; synthetic tests use it directly)."""
+    t = np.asarray(t, float)
+    base = rigid_joint_angle(motor, d)
+    dt = op.uniform_dt(t)
+    smooth_motor = op.derivative(t, motor, window_s=0.03, order=0, polyorder=3) if t.size > 40 else motor
+    vel = op.derivative(t, base, window_s=0.02, order=1)
+    acc = op.derivative(t, base, window_s=0.03, order=2)
+    macc = op.lowpass_derivative(t, np.asarray(motor, float), cutoff_hz=25.0, order=2)
+    K = d.stiffness_nm_rad
+    motion = op.second_order(t, base, d.bearing_damping_nm_s_rad / K, d.link_inertia_kg_m2 / K)
+    signals = {"input": np.asarray(motor, float), "position": base, "velocity": vel, "acceleration": acc,
+               "motion": motion,
+               "motor_acceleration": macc, "travel": op.travel(d.ratio * smooth_motor), "time": t - t[0]}
+    return Context(t, np.asarray(joint, float), base, np.zeros((t.size, 0)), signals, source,
+                   meta={"design": d, "dt_s": dt})
+
+
+def check_excitation(ctx: Context, path: str) -> None:
+    """Refuse logs that cannot identify anything: too short, motor barely moving, or joint not following."""
+    d: JointDesign = ctx.meta["design"]
+    motor = ctx.signals["input"]
+    if ctx.t[-1] - ctx.t[0] < 2.0:
+        raise UserError(f"{path}: column 'time_s' spans {ctx.t[-1] - ctx.t[0]:.3g} s (rows 2-{ctx.n + 1}); "
+                        f"at least 2 s of motion are needed to identify anything")
+    steps = np.ptp(motor) / d.microstep_rad
+    if steps < 20:
+        raise UserError(f"{path}: column 'motor_angle_rad' moves over {steps:.1f} microsteps only "
+                        f"({np.ptp(motor):.3g} rad); at least 20 microsteps ({20 * d.microstep_rad:.3g} rad) of "
+                        f"motion are needed: the log is too poorly excited to identify anything")
+    v = ctx.signals["velocity"]
+    moving = np.abs(v) > 0.05 * np.max(np.abs(v))
+    reversals = int(np.sum(np.diff(np.sign(v[moving])) != 0))
+    if reversals < 4:
+        raise UserError(f"{path}: column 'motor_angle_rad' reverses {reversals} time(s); at least 4 reversals "
+                        f"are needed (friction, backlash and offsets need motion both ways)")
+    rigid = ctx.base
+    jy = ctx.y
+    ratio = np.ptp(jy) / max(np.ptp(rigid), 1e-300)
+    if 40.0 < ratio < 80.0:
+        i = int(np.argmax(np.abs(jy)))
+        raise UserError(f"{path}: column 'joint_angle_rad' row {i + 2}: the joint swings {ratio:.1f} x the rigid "
+                        f"capstan prediction (57.3 = degrees per radian): the column looks like degrees")
+    if ratio < 0.2 or ratio > 5.0:
+        raise UserError(f"{path}: column 'joint_angle_rad' swings {np.ptp(jy):.3g} rad while the motor commands "
+                        f"{np.ptp(rigid):.3g} rad at the joint (ratio {ratio:.2f}): wrong column, wrong design "
+                        f"(--design, --joint) or a joint that does not follow its motor")
+
+
+def load(path: str | Path, design: Params, joint: int | None = None, notes: list | None = None) -> Context:
+    """Read and check a joint log; build its context. Warnings (filled gaps) are appended to ``notes``."""
+    log = read_log(path, COLUMNS, family="joint")
+    if notes is not None:
+        notes.extend(log.notes)
+    d = joint_design(design, joint)
+    ctx = joint_context(log["time_s"], log["motor_angle_rad"], log["joint_angle_rad"], d, str(path))
+    check_excitation(ctx, str(path))
+    return ctx
+
+
+# --------------------------------------------------------------------------------------------------- effects
+
+
+def _d(ctx: Context) -> JointDesign:
+    return ctx.meta["design"]
+
+
+def _unit_coef(name: str = "gain") -> Param:
+    return Param(name, "-", 0.7, 1.3, "amplitude of the mechanism's predicted shape (1 if the mechanism is right)")
+
+
+def _dyn(ctx: Context, t1: float, t2: float) -> np.ndarray:
+    return op.second_order(ctx.t, ctx.base, t1, t2) - ctx.base
+
+
+class _E(Effect):
+    pass
+
+
+class _ThresholdEffect(Effect):
+    """An effect whose nonlinear parameter is a threshold on ``motor_acceleration``: the model changes only when
+    the threshold crosses a peak, so the grid is the midpoints between the largest distinct peaks."""
+
+    max_events = 80
+
+    def grid(self, param, ctx):
+        from scipy.signal import find_peaks
+        a = np.abs(ctx.meta.get("parent", ctx).signals["motor_acceleration"])
+        idx, _ = find_peaks(a)
+        peaks = np.unique(a[idx])[::-1][: self.max_events + 1]
+        if peaks.size < 2:
+            return param.grid_values()
+        mids = 0.5 * (peaks[1:] + peaks[:-1])
+        g = np.r_[mids, param.hi]
+        return g[(g >= param.lo) & (g <= param.hi)]
+
+
+def _offset() -> Effect:
+    return _E(name="offset", meaning="Sensor zero not at the joint's straight position (magnet or encoder mounting).",
+              fingerprint="a constant residual, the same in both directions and at every position",
+              linear=(Param("offset_rad", "rad", -0.5, 0.5, "sensor zero error"),), fingerprint_axis="position",
+              columns_fn=lambda ctx, nl: np.ones(ctx.n))
+
+
+def _effective_radius() -> Effect:
+    def phys(v, s, ctx):
+        d = _d(ctx)
+        return {"spool_radius_mm": (1000 * d.spool_radius_m * (1 + v["ratio_error"]),
+                                    1000 * d.spool_radius_m * s["ratio_error"], "mm")}
+    return _E(name="effective_radius",
+              meaning="The cable wraps at its centreline (r_spool + d/2), or the groove or tendon sector is off "
+                      "size: the transmission ratio differs from r_spool / d_mount.",
+              fingerprint="a residual proportional to the joint angle (a scale error): a straight line in residual "
+                          "vs position through the origin",
+              linear=(Param("ratio_error", "-", -0.2, 0.25, "relative error of r_spool / d_mount"),),
+              fingerprint_axis="position", columns_fn=lambda ctx, nl: ctx.base, physical_fn=phys)
+
+
+def _cable_compliance() -> Effect:
+    def cols(ctx, nl):
+        d = _d(ctx)
+        K = d.stiffness_nm_rad * nl["stiffness_factor"]
+        return _dyn(ctx, d.bearing_damping_nm_s_rad / K, d.link_inertia_kg_m2 / K)
+
+    def phys(v, s, ctx):
+        d = _d(ctx)
+        f, sf = v["stiffness_factor"], s["stiffness_factor"]
+        return {"joint_stiffness_nm_rad": (f * d.stiffness_nm_rad, sf * d.stiffness_nm_rad, "N m/rad"),
+                "effective_modulus_gpa": (f * d.youngs_modulus_gpa, sf * d.youngs_modulus_gpa, "GPa")}
+
+    def plaus(v, ctx):
+        return [] if v["stiffness_factor"] < 0.9 else ["stiffness within 10 % of the design: no compliance effect"]
+    return _E(name="cable_compliance",
+              meaning="The cable (and its anchors, guides, printed sector) is softer than E A / L of the design: the "
+                      "joint's own inertia and bearing damping stretch it.",
+              fingerprint="a lag growing with frequency and ringing after fast moves (resonance sqrt(K/J) drops): "
+                          "residual against acceleration and velocity",
+              linear=(_unit_coef(),),
+              nonlinear=(Param("stiffness_factor", "-", 0.003, 1.0, "joint stiffness / design stiffness",
+                               scale="log", grid=24),),
+              fingerprint_axis="acceleration", columns_fn=cols, physical_fn=phys, plausible_fn=plaus)
+
+
+def _added_mass() -> Effect:
+    def cols(ctx, nl):
+        d = _d(ctx)
+        K = d.stiffness_nm_rad
+        return _dyn(ctx, d.bearing_damping_nm_s_rad / K, (d.link_inertia_kg_m2 + nl["added_inertia_kg_m2"]) / K)
+    return _E(name="added_mass",
+              meaning="Inertia beyond the bare link: the fin, a payload, or the water it accelerates (added mass).",
+              fingerprint="a residual proportional to -acceleration at low frequency, a resonance sqrt(K/J) moving "
+                          "down: residual against acceleration",
+              linear=(_unit_coef(),),
+              nonlinear=(Param("added_inertia_kg_m2", "kg m^2", 1e-7, 1e-2, "extra inertia about the hinge",
+                               scale="log", grid=30),),
+              fingerprint_axis="acceleration", columns_fn=cols)
+
+
+def _viscous() -> Effect:
+    def cols(ctx, nl):
+        d = _d(ctx)
+        K = d.stiffness_nm_rad
+        return _dyn(ctx, (d.bearing_damping_nm_s_rad + nl["damping_nm_s_rad"]) / K, d.link_inertia_kg_m2 / K)
+
+    def phys(v, s, ctx):
+        K = _d(ctx).stiffness_nm_rad
+        return {"lag_time_constant_s": (v["damping_nm_s_rad"] / K, s["damping_nm_s_rad"] / K, "s")}
+    return _E(name="viscous_friction",
+              meaning="Torque proportional to joint speed (lubricated bearing, seals, linear hydrodynamic damping), "
+                      "stretching the cable: a first-order lag c / K.",
+              fingerprint="a residual proportional to -velocity whose phase lag grows as atan(omega c / K) "
+                          "(gain drops at high frequency, unlike a delay): residual against velocity",
+              linear=(_unit_coef(),),
+              nonlinear=(Param("damping_nm_s_rad", "N m s/rad", 1e-4, 1.0, "viscous damping at the hinge",
+                               scale="log", grid=16),),
+              fingerprint_axis="velocity", columns_fn=cols, physical_fn=phys)
+
+
+def _quadratic_drag() -> Effect:
+    def cols(ctx, nl):
+        d = _d(ctx)
+        v = ctx.signals["velocity"]
+        K = d.stiffness_nm_rad
+        # the drag torque reaches the joint angle through the bench link's own dynamics
+        return op.second_order(ctx.t, -v * np.abs(v), d.bearing_damping_nm_s_rad / K, d.link_inertia_kg_m2 / K)
+
+    def phys(v, s, ctx):
+        K = _d(ctx).stiffness_nm_rad
+        return {"drag_coefficient_nm_s2_rad2": (v["drag_over_stiffness_s2"] * K, s["drag_over_stiffness_s2"] * K,
+                                                "N m s^2/rad^2")}
+    return _E(name="quadratic_drag",
+              meaning="Hydrodynamic (form) drag of the fin and link, tau = b omega |omega|, stretching the cable.",
+              fingerprint="a residual proportional to -velocity |velocity|: a parabola in residual vs velocity, "
+                          "flat at low speed",
+              linear=(Param("drag_over_stiffness_s2", "s^2/rad", 0.0, 1.0, "b / K"),),
+              fingerprint_axis="velocity", columns_fn=cols, physical_fn=phys)
+
+
+def _play_effect(name, meaning, fingerprint, pname, unit, lo, hi, to_half_width, phys):
+    def cols(ctx, nl):
+        h = to_half_width(ctx, nl[pname])
+        return op.play(ctx.base, h) - ctx.base
+    return _E(name=name, meaning=meaning, fingerprint=fingerprint, linear=(_unit_coef(),),
+              nonlinear=(Param(pname, unit, lo, hi, "", scale="log", grid=16),), fingerprint_axis="velocity",
+              columns_fn=cols, physical_fn=phys)
+
+
+def _coulomb() -> Effect:
+    def phys(v, s, ctx):
+        K = _d(ctx).stiffness_nm_rad
+        return {"stuck_band_rad": (2 * v["friction_torque_nm"] / K, 2 * s["friction_torque_nm"] / K, "rad")}
+    return _play_effect(
+        "coulomb_friction",
+        "Dry friction at the hinge (pin loaded by the cable pretension): a constant torque against the motion, "
+        "stretching the cable; the joint sticks at each reversal until the cable has wound up 2 tau_c / K.",
+        "a step in the residual at zero velocity (residual = -tau_c/K sign(velocity)), hysteresis after each "
+        "reversal: residual against velocity",
+        "friction_torque_nm", "N m", 1e-4, 0.5, lambda ctx, x: x / _d(ctx).stiffness_nm_rad, phys)
+
+
+def _backlash() -> Effect:
+    def phys(v, s, ctx):
+        d = _d(ctx)
+        return {"cable_slack_mm": (1000 * v["gap_rad"] * d.moment_arm_m, 1000 * s["gap_rad"] * d.moment_arm_m, "mm")}
+    return _play_effect(
+        "backlash",
+        "A dead band: slack cable (lost pretension), play of the spool on the shaft flat or of the hinge pin; "
+        "the motor turns through the gap before the joint follows (paper eq. 37).",
+        "the residual jumps by the gap at each reversal and stays at +-gap/2 against the motion: concentrated "
+        "after reversals, residual against velocity",
+        "gap_rad", "rad", 2e-4, 0.2, lambda ctx, x: 0.5 * x, phys)
+
+
+def _creep() -> Effect:
+    return _E(name="capstan_creep",
+              meaning="The cable slowly slides around the drum (or walks along the groove) in one direction: a "
+                      "small slip for every radian of travel, accumulating.",
+              fingerprint="a drift that does not reverse with the motion and grows with the distance travelled "
+                          "(not with time): residual against cumulative travel",
+              linear=(Param("creep_per_travel", "rad/rad", -0.02, 0.02, "joint slip per joint radian travelled"),),
+              fingerprint_axis="travel", columns_fn=lambda ctx, nl: ctx.signals["travel"])
+
+
+def _delay() -> Effect:
+    def cols(ctx, nl):
+        # the sensor sees the joint's motion, which follows the microstep staircase through the bare link's own
+        # dynamics; delaying that smooth motion (not the staircase) keeps the fit smooth in the delay
+        return op.delay(ctx.t, ctx.signals["motion"], nl["delay_s"]) - ctx.base
+
+    return _E(name="sensor_delay",
+              meaning="The joint sensor reports late (filtering, bus latency, frame time) by a constant delay.",
+              fingerprint="a cross-correlation peak of residual and input rate at a lag; a phase lag growing in "
+                          "proportion to frequency with no loss of gain: residual against velocity",
+              linear=(_unit_coef(),),
+              nonlinear=(Param("delay_s", "s", 0.0, 0.1, "sensor latency", grid=21),),
+              fingerprint_axis="velocity",
+              columns_fn=cols)
+
+
+def _lost_steps() -> Effect:
+    def cols(ctx, nl):
+        d = _d(ctx)
+        K = d.stiffness_nm_rad
+        full = ctx.meta.get("parent", ctx)       # slips counted since the start of the record
+        ev = slip_signal(full.t, full.signals["motor_acceleration"], nl["slip_acceleration_rad_s2"], at=ctx.t)
+        # a slip is a step of the cable's far end: the link rings after it at sqrt(K / J0)
+        return op.second_order(ctx.t, ev, d.bearing_damping_nm_s_rad / K, d.link_inertia_kg_m2 / K)
+
+    def plaus(v, ctx):
+        q = _d(ctx).slip_quantum_rad
+        s = -v["slip_rad"] / q
+        k = round(s)
+        if k < 1 or abs(s - k) > 0.25 * k:
+            return [f"slip of {v['slip_rad']:.4g} rad per event is not a whole number of 4-full-step slips "
+                    f"against the acceleration ({-q:.4g} rad each)"]
+        return []
+
+    def phys(v, s, ctx):
+        q = _d(ctx).slip_quantum_rad
+        return {"full_steps_per_slip": (-v["slip_rad"] / q * SLIP_FULL_STEPS, s["slip_rad"] / q * SLIP_FULL_STEPS,
+                                        "full steps")}
+    return _ThresholdEffect(name="lost_steps",
+              meaning="The stepper loses synchronism when the torque demanded (mostly acceleration) exceeds what it "
+                      "can give: the rotor slips by 4 full steps against the acceleration and the controller never "
+                      "knows.",
+              fingerprint="sudden permanent jumps of the residual by multiples of 4 full steps x r/d at moments "
+                          "of peak acceleration: residual against time",
+              linear=(Param("slip_rad", "rad", -1.0, 1.0, "joint angle lost per slip event"),),
+              nonlinear=(Param("slip_acceleration_rad_s2", "rad/s^2", 5.0, 5000.0,
+                               "motor acceleration beyond which it slips", scale="log", grid=48),),
+              fingerprint_axis="time", columns_fn=cols, plausible_fn=plaus, physical_fn=phys)
+
+
+EFFECTS: tuple[Effect, ...] = (_offset(), _effective_radius(), _cable_compliance(), _coulomb(), _viscous(),
+                               _quadratic_drag(), _added_mass(), _backlash(), _creep(), _delay(), _lost_steps())
+
+EFFECT_NAMES = tuple(e.name for e in EFFECTS)
+
+#: Effects whose fingerprints the physics makes (near-)identical in a joint-angle log (see module docstring).
+EQUIVALENT = (frozenset({"coulomb_friction", "backlash"}), frozenset({"cable_compliance", "added_mass"}))
+
+FAMILY = Family(
+    name="joint",
+    description="capstan-driven joint: commanded motor angle -> measured joint angle (rigid capstan, eq. 48)",
+    columns=COLUMNS,
+    target="joint_angle_rad",
+    target_unit="rad",
+    base_terms=("rigid capstan: theta = (r_spool / d_mount) q round(phi / q)  (paper eq. 48 inverted)",),
+    effects=EFFECTS,
+    load=load,
+    equivalent_effects=EQUIVALENT,
+    units={"motor_angle": "rad", "joint_angle": "rad", "velocity": "rad/s", "acceleration": "rad/s^2"},
+)

@@ -1,0 +1,53 @@
+"""``swiftfin synth joint --effect NAME[=VALUE] ... --out FILE``: a physically simulated bench log.
+
+See :mod:`calibration.synth` for the simulation (stepper -> spool -> pretensioned elastic cables -> joint with
+inertia, damping, drag and friction -> 12-bit encoder with noise) and the default size of each effect.
+"""
+from __future__ import annotations
+
+from swiftfin.config import DEFAULT_DESIGN, load_design
+from swiftfin.errors import UserError
+
+
+def register(sub) -> None:
+    from calibration.synth import EFFECT_DEFAULTS, EXTRA_EFFECTS
+    lines = [f"{k} (default {v[0]:g} {v[1]}: {v[2]})" + (" [not in the fit library]" if k in EXTRA_EFFECTS else "")
+             for k, v in EFFECT_DEFAULTS.items()]
+    ap = sub.add_parser("synth", help="simulate a measured log with chosen (undeclared) effects")
+    ap.add_argument("family", choices=["joint"], help="model family to simulate (joint)")
+    ap.add_argument("--effect", action="append", default=[], metavar="NAME[=VALUE]",
+                    help="add an effect (repeatable): " + "; ".join(lines))
+    ap.add_argument("--out", required=True, help="CSV file to write")
+    ap.add_argument("--seed", type=int, default=0, help="random seed (command phases and noise)")
+    ap.add_argument("--design", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
+    ap.add_argument("--joint", type=int, default=None, help="tail joint simulated, 1-based (default: the last)")
+    ap.add_argument("--duration", type=float, default=40.0, help="log length [s] (default 40)")
+    ap.add_argument("--rate", type=float, default=1000.0, help="sample rate [Hz] (default 1000)")
+    ap.add_argument("--noise", type=float, default=None, help="sensor noise [rad] (default 1e-3)")
+    ap.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from calibration.io import write_log
+    from calibration.joint import joint_design
+    from calibration.synth import NOISE_RAD, simulate_joint, parse_effects
+
+    try:
+        effects = parse_effects(args.effect)
+    except ValueError as exc:
+        raise UserError(f"--effect: {exc}") from None
+    if not 0.5 <= args.duration <= 1e5:
+        raise UserError(f"--duration {args.duration}: expected 0.5 to 1e5 s")
+    if not 10 <= args.rate <= 1e5:
+        raise UserError(f"--rate {args.rate}: expected 10 to 1e5 Hz")
+    noise = NOISE_RAD if args.noise is None else args.noise
+    if noise < 0:
+        raise UserError(f"--noise {noise}: must be >= 0 rad")
+    d = joint_design(load_design(args.design), None if args.joint is None else args.joint - 1)
+    log = simulate_joint(d, effects, duration_s=args.duration, rate_hz=args.rate, noise_rad=noise, seed=args.seed)
+    write_log(args.out, {"time_s": log.t, "motor_angle_rad": log.motor_angle_rad,
+                         "joint_angle_rad": log.joint_angle_rad})
+    desc = ", ".join(f"{k}={v:g}" for k, v in effects.items()) or "none"
+    print(f"{args.out}: {log.t.size} samples, joint {d.joint + 1}, effects: {desc} ({log.integrator}"
+          + (f", {log.n_slips} slips" if "lost_steps" in effects else "") + ")")
+    return 0

@@ -1,0 +1,234 @@
+"""The joint family on synthetic bench logs with undeclared effects (issue 5, items 4a-4d).
+
+The confusion matrix (true effect -> effect named first) is written to the test report (``record_property`` and
+a report section: ``pytest -rP`` prints it) and into every assertion message.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from calibration.engine import Calibrator, Context
+from calibration.joint import EQUIVALENT, FAMILY, joint_context, joint_design
+from calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, simulate_joint
+
+FLOOR_FACTOR = 1.5   # "near the noise level": held-out RMSE within 1.5 x that of a clean log (noise + floor)
+#: Lost steps are predicted from the commanded acceleration crossing a threshold. Peaks within ~2 % of the
+#: threshold cannot be classified from a quantised command log (acceleration estimate noise ~2 rad/s^2), and each
+#: misclassified peak leaves a 4-full-step offset in the held-out blocks. So for lost_steps the test asks for the
+#: right name and a large drop (>= 50 %), not the noise level. Stated in the report as a known limit.
+UNPREDICTABLE_TO_NOISE = {"lost_steps"}
+
+
+@pytest.fixture(scope="module")
+def d(default_params):
+    return joint_design(default_params)
+
+
+def run(d, effects: dict, seed: int) -> Calibrator:
+    log = simulate_joint(d, effects, seed=seed)
+    ctx = joint_context(log.t, log.motor_angle_rad, log.joint_angle_rad, d, source=f"synthetic {effects}")
+    return Calibrator(FAMILY).fit(ctx)
+
+
+def twins(a: str, b: str) -> bool:
+    return any({a, b} <= g for g in EQUIVALENT)
+
+
+def named_correctly(truth: str, cal: Calibrator) -> bool:
+    """The first effect named is the truth, or its physical twin with the ambiguity reported."""
+    if not cal.added_effects_:
+        return False
+    first = cal.added_effects_[0]
+    return first.name == truth or (twins(first.name, truth) and truth in first.indistinguishable_from)
+
+
+# ----------------------------------------------------------------------------------------- confusion matrix
+
+
+@pytest.fixture(scope="module")
+def suite(d):
+    """Every library effect alone at its default size, a clean log, two pairs and two effects outside the
+    library. Seeds differ per case (different command phases and noise)."""
+    cases = {"none": {}}
+    for k, name in enumerate(LIBRARY_EFFECTS):
+        cases[name] = {name: EFFECT_DEFAULTS[name][0]}
+    cases["effective_radius+sensor_delay"] = {"effective_radius": 1.05, "sensor_delay": 0.010}
+    cases["quadratic_drag+capstan_creep"] = {"quadratic_drag": 0.003, "capstan_creep": 0.001}
+    cases["cogging (outside library)"] = {"cogging": 0.1}
+    cases["radius_drift (outside library)"] = {"radius_drift": 0.03}
+    return {name: run(d, eff, seed=11 + i) for i, (name, eff) in enumerate(cases.items())}
+
+
+def confusion_text(suite) -> str:
+    floor = suite["none"].final_["rmse_holdout"]
+    lines = [f"{'injected':32s} {'named (in order)':44s} {'rmse base':>10s} {'final':>9s} {'/floor':>6s} unexpl.",
+             "-" * 112]
+    for case, cal in suite.items():
+        named = []
+        for fe in cal.added_effects_:
+            s = fe.name + ("?" if fe.confidence == "low" else "")
+            if fe.indistinguishable_from:
+                s += "~" + "/".join(fe.indistinguishable_from)
+            named.append(s)
+        lines.append(f"{case:32s} {', '.join(named) or '(nothing)':44s} {cal.baseline_['rmse_holdout']:10.3g} "
+                     f"{cal.final_['rmse_holdout']:9.3g} {cal.final_['rmse_holdout'] / floor:6.2f} "
+                     f"{'yes' if cal.unexplained_structure_ else 'no'}")
+    lines.append("'?' = low confidence; '~x' = indistinguishable from x in these data; floor = final RMSE on the "
+                 f"clean log ({floor:.3g} rad)")
+    return "\n".join(lines)
+
+
+@pytest.fixture(scope="module")
+def matrix(suite):
+    return confusion_text(suite)
+
+
+@pytest.mark.slow
+def test_confusion_matrix_single_effects(suite, matrix, record_property, request):
+    """(a) every library effect alone: named first (or its physical twin, with the ambiguity reported), and the
+    held-out error drops to near the noise level."""
+    record_property("confusion_matrix", matrix)
+    request.node.add_report_section("call", "confusion matrix", matrix)
+    print("\n" + matrix)
+    floor = suite["none"].final_["rmse_holdout"]
+    wrong = [n for n in LIBRARY_EFFECTS if not named_correctly(n, suite[n])]
+    assert not wrong, f"misnamed: {wrong}\n{matrix}"
+    high = [n for n in LIBRARY_EFFECTS if n not in UNPREDICTABLE_TO_NOISE
+            and suite[n].final_["rmse_holdout"] > FLOOR_FACTOR * floor]
+    assert not high, f"held-out error not near the noise level: {high}\n{matrix}"
+    for n in UNPREDICTABLE_TO_NOISE:
+        cal = suite[n]
+        assert cal.final_["rmse_holdout"] < 0.5 * cal.baseline_["rmse_holdout"], matrix
+    exact = sum(suite[n].added_effects_[0].name == n for n in LIBRARY_EFFECTS)
+    assert exact >= len(LIBRARY_EFFECTS) - 2, matrix   # at most one twin pair decided by a coin toss
+
+
+@pytest.mark.slow
+def test_clean_log_adds_nothing(suite, matrix):
+    """(b)"""
+    cal = suite["none"]
+    assert cal.added_effects_ == [], matrix
+    assert not cal.unexplained_structure_, matrix
+
+
+@pytest.mark.slow
+def test_effect_outside_library(suite, matrix):
+    """(c) a periodic microstep error (cogging) is not in the library: structure flagged, no confident claim."""
+    cal = suite["cogging (outside library)"]
+    assert cal.unexplained_structure_, matrix
+    assert all(fe.confidence == "low" for fe in cal.added_effects_), matrix
+
+
+@pytest.mark.slow
+def test_radius_drift_is_flagged(suite, matrix):
+    """(c') a radius drifting in time: the mean radius error is a real part of it (effective_radius may be
+    named), but the drift itself is unexplained and must be flagged."""
+    cal = suite["radius_drift (outside library)"]
+    assert cal.unexplained_structure_, matrix
+    assert {fe.name for fe in cal.added_effects_} <= {"effective_radius"}, matrix
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("case", ["effective_radius+sensor_delay", "quadratic_drag+capstan_creep"])
+def test_two_effects_both_found(suite, matrix, case):
+    """(d)"""
+    cal = suite[case]
+    found = {fe.name for fe in cal.added_effects_}
+    assert set(case.split("+")) <= found, matrix
+    assert cal.final_["rmse_holdout"] < FLOOR_FACTOR * suite["none"].final_["rmse_holdout"], matrix
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name,param,true", [
+    ("offset", "offset_rad", 0.02),
+    ("effective_radius", "ratio_error", 0.05),
+    ("viscous_friction", "damping_nm_s_rad", 0.02),
+    ("capstan_creep", "creep_per_travel", 0.001),
+])
+def test_physical_recovery_within_uncertainty(suite, name, param, true):
+    """Where the effect model is the simulator's physics, the true value lies within 3 sigma."""
+    fe = suite[name].added_effects_[0]
+    assert abs(fe.values[param] - true) < 3 * fe.stds[param], (fe.values[param], fe.stds[param])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name,param,true,tol", [
+    ("sensor_delay", "delay_s", 0.010, 0.08),          # absorbs the bare link's ~0.3 ms lag
+    ("added_mass", "added_inertia_kg_m2", 3e-4, 0.05),
+    ("cable_compliance", "stiffness_factor", 0.1, 0.1),
+    ("lost_steps", "slip_rad", None, 0.15),              # 4 full steps x r / d_mount; marginal peaks bias it
+    ("quadratic_drag", "drag_over_stiffness_s2", None, 0.15),
+])
+def test_physical_recovery_with_model_error(suite, d, name, param, true, tol):
+    """Where the effect model approximates the simulator (quasi-static drag, slip timing, the link's own lag),
+    the statistical sigma is far below the model error: the value is checked against a stated tolerance."""
+    if name == "lost_steps":
+        true = -d.slip_quantum_rad
+    if name == "quadratic_drag":
+        true = EFFECT_DEFAULTS["quadratic_drag"][0] / d.stiffness_nm_rad
+    fe = suite[name].added_effects_[0]
+    assert fe.values[param] == pytest.approx(true, rel=tol)
+
+
+# --------------------------------------------------------------------------- model-consistent recovery (fast)
+
+TRUE = {
+    "offset": ({}, {"offset_rad": 0.02}),
+    "effective_radius": ({}, {"ratio_error": 0.05}),
+    "cable_compliance": ({"stiffness_factor": 0.1}, {"gain": 1.0}),
+    "coulomb_friction": ({"friction_torque_nm": 0.02}, {"gain": 1.0}),
+    "viscous_friction": ({"damping_nm_s_rad": 0.02}, {"gain": 1.0}),
+    "quadratic_drag": ({}, {"drag_over_stiffness_s2": 0.0014}),
+    "added_mass": ({"added_inertia_kg_m2": 3e-4}, {"gain": 1.0}),
+    "backlash": ({"gap_rad": 0.01}, {"gain": 1.0}),
+    "capstan_creep": ({}, {"creep_per_travel": 0.001}),
+    "sensor_delay": ({"delay_s": 0.01}, {"gain": 1.0}),
+    "lost_steps": ({"slip_acceleration_rad_s2": None}, {"slip_rad": -0.0837758}),
+}
+
+
+@pytest.fixture(scope="module")
+def bench_ctx(d):
+    log = simulate_joint(d, {}, duration_s=20, seed=5, noise_rad=0, encoder_counts=None)
+    return joint_context(log.t, log.motor_angle_rad, log.motor_angle_rad * d.ratio, d)
+
+
+@pytest.mark.parametrize("name", list(TRUE))
+def test_model_consistent_recovery_within_uncertainty(bench_ctx, name):
+    """Data made by the effect's own model plus white noise: every parameter within 3 sigma of the truth
+    (this checks the estimator and its uncertainties, free of model error)."""
+    eff = FAMILY.effect(name)
+    nl, lin = TRUE[name]
+    nl = dict(nl)
+    if name == "lost_steps":   # a threshold between two peaks of the commanded acceleration
+        g = eff.grid(eff.nonlinear[0], bench_ctx)
+        nl["slip_acceleration_rad_s2"] = float(g[5])
+    X = eff.columns(bench_ctx, nl)
+    beta = np.array([lin[p.name] for p in eff.linear])
+    rng = np.random.default_rng(9)
+    y = bench_ctx.base + X @ beta + rng.normal(0, 1e-3, bench_ctx.n)
+    ctx = Context(bench_ctx.t, y, bench_ctx.base, bench_ctx.base_columns, bench_ctx.signals, "model-consistent",
+                  meta=bench_ctx.meta)
+    cal = Calibrator(FAMILY, candidates=[name], max_effects=1).fit(ctx)
+    assert [fe.name for fe in cal.added_effects_] == [name]
+    fe = cal.added_effects_[0]
+    for k, v in {**nl, **lin}.items():
+        assert abs(fe.values[k] - v) <= 3 * fe.stds[k] + 1e-12, (k, fe.values[k], v, fe.stds[k])
+
+
+@pytest.mark.parametrize("effects,seed", [({"effective_radius": 1.05, "sensor_delay": 0.010}, 31),
+                                          ({"lost_steps": 160.0}, 1)])
+def test_windowed_selection_on_long_logs(d, effects, seed):
+    """Above ``max_search_samples`` the selection runs on contiguous windows (slip counts taken from the whole
+    record) and the values are refined on all rows: the same effects and values as a selection on all rows."""
+    log = simulate_joint(d, effects, seed=seed)
+    ctx = joint_context(log.t, log.motor_angle_rad, log.joint_angle_rad, d)
+    full = Calibrator(FAMILY).fit(ctx)
+    win = Calibrator(FAMILY, max_search_samples=12000).fit(ctx)
+    assert win.search_rows_ <= 20000 < full.search_rows_     # at least one 2500-row window per block
+    assert sorted(fe.name for fe in win.added_effects_) == sorted(fe.name for fe in full.added_effects_)
+    vf = {k: (v, fe.stds[k]) for fe in full.added_effects_ for k, v in fe.values.items()}
+    for fe in win.added_effects_:
+        for k, v in fe.values.items():
+            assert v == pytest.approx(vf[k][0], rel=0.02, abs=3 * vf[k][1]), k

@@ -1,0 +1,153 @@
+"""The synthetic bench joint against closed forms: stiffness from the design, quasi-static lags at constant
+speed, backlash width, slip size, sensor delay and quantisation; the CLI writes a joint-format log."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from calibration.joint import joint_design, rigid_joint_angle
+from calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, parse_effects, simulate_joint
+from swiftfin.cli import main
+from tests.conftest import DEFAULT_DESIGN
+
+
+@pytest.fixture(scope="module")
+def d(default_params):
+    return joint_design(default_params)
+
+
+def ramp(v):
+    """Constant joint speed v [rad/s] from -0.3 rad (a ramp command)."""
+    return lambda t: (-0.3 + v * t, np.zeros_like(t))
+
+
+def test_design_stiffness_by_hand(d, default_params):
+    from cad.layout import cable_routes
+    L = np.mean([r.length_mm for r in cable_routes(default_params) if r.joint == 3]) / 1000
+    k = 2.0e9 * math.pi * 0.001**2 / 4 / L               # E A / L of one 1 mm nylon cable, E = 2 GPa
+    assert d.side_stiffness_n_m == pytest.approx(k, rel=1e-12)
+    assert d.stiffness_nm_rad == pytest.approx(2 * k * 0.015**2, rel=1e-12)
+    assert d.ratio == pytest.approx(10 / 15)
+    assert d.joint_microstep_rad == pytest.approx(math.radians(1.8) / 16 * 10 / 15)
+    assert d.slip_quantum_rad == pytest.approx(4 * math.radians(1.8) * 10 / 15)
+
+
+def test_library_names_match_the_issue():
+    assert LIBRARY_EFFECTS == ("offset", "effective_radius", "cable_compliance", "coulomb_friction",
+                               "viscous_friction", "quadratic_drag", "added_mass", "backlash", "capstan_creep",
+                               "sensor_delay", "lost_steps")
+    from calibration.joint import EFFECT_NAMES
+    assert set(EFFECT_NAMES) == set(LIBRARY_EFFECTS)
+
+
+def test_no_effect_follows_the_rigid_capstan(d):
+    log = simulate_joint(d, {}, duration_s=10, noise_rad=0.0, encoder_counts=None, seed=4)
+    e = log.true_joint_angle_rad - rigid_joint_angle(log.motor_angle_rad, d)
+    # only microstep-scale dynamics of the bare link remain: below one joint microstep (1.3e-3 rad) rms
+    assert np.sqrt(np.mean(e**2)) < 0.6 * d.joint_microstep_rad
+    assert abs(np.mean(e)) < 1e-4
+
+
+def test_exact_linear_path_matches_integrator(d):
+    eff = {"added_mass": 3e-4, "viscous_friction": 0.005}
+    a = simulate_joint(d, eff, duration_s=4, noise_rad=0, encoder_counts=None)
+    b = simulate_joint(d, eff, duration_s=4, noise_rad=0, encoder_counts=None, force_integrator=True)
+    assert a.integrator.startswith("exact") and b.integrator.startswith("semi-implicit")
+    assert np.sqrt(np.mean((a.true_joint_angle_rad - b.true_joint_angle_rad) ** 2)) < 2e-4
+
+
+@pytest.mark.parametrize("name,value,lag", [
+    ("viscous_friction", 0.02, lambda d, v, x: (d.bearing_damping_nm_s_rad + x) * v / d.stiffness_nm_rad),
+    ("quadratic_drag", 0.003, lambda d, v, x: (d.bearing_damping_nm_s_rad * v + x * v * v) / d.stiffness_nm_rad),
+    ("coulomb_friction", 0.02, lambda d, v, x: (d.bearing_damping_nm_s_rad * v + x) / d.stiffness_nm_rad),
+])
+def test_quasi_static_lag_at_constant_speed(d, name, value, lag):
+    """At constant speed v the cable stretches by the load torque / K: theta = u - tau(v) / K."""
+    v = 0.6
+    log = simulate_joint(d, {name: value}, duration_s=1.0, noise_rad=0, encoder_counts=None,
+                         command=ramp(v), force_integrator=True)
+    u = d.ratio * np.rint((-0.3 + v * log.t) / d.ratio / d.microstep_rad) * d.microstep_rad
+    late = log.t > 0.5
+    measured = np.mean((u - log.true_joint_angle_rad)[late])
+    assert measured == pytest.approx(lag(d, v, value), rel=0.03, abs=2e-5)
+
+
+def test_backlash_hysteresis_width(d):
+    """A slow triangle: going up and coming down, the joint differs by the dead band at the same command."""
+    gap = 0.01
+    T = 4.0
+
+    def tri(t):
+        return 0.2 * (1 - 2 * np.abs((t / T) % 1 - 0.5) * 2), np.zeros_like(t)
+    log = simulate_joint(d, {"backlash": gap}, duration_s=T, noise_rad=0, encoder_counts=None, command=tri)
+    th = log.true_joint_angle_rad
+    up = (log.t > 0.1 * T) & (log.t < 0.4 * T)
+    down = (log.t > 0.6 * T) & (log.t < 0.9 * T)
+    cmd = tri(log.t)[0]
+    # joint vs command on each branch, compared at the same commanded angle
+    c = np.linspace(-0.1, 0.1, 21)
+    j_up = np.interp(c, cmd[up], th[up])
+    order = np.argsort(cmd[down])
+    j_down = np.interp(c, cmd[down][order], th[down][order])
+    assert np.mean(j_down - j_up) == pytest.approx(gap, rel=0.08)
+
+
+def test_lost_steps_are_four_full_steps(d):
+    log = simulate_joint(d, {"lost_steps": 150.0}, duration_s=20, noise_rad=0, encoder_counts=None, seed=1)
+    assert log.n_slips > 0
+    e = log.true_joint_angle_rad - rigid_joint_angle(log.motor_angle_rad, d)
+    jumps = np.round(np.diff(e[::50]) / d.slip_quantum_rad)
+    steps = jumps[jumps != 0]
+    assert steps.size == log.n_slips
+    assert set(np.abs(steps)) == {1.0}
+
+
+def test_sensor_delay_and_offset(d):
+    log = simulate_joint(d, {"sensor_delay": 0.012, "offset": 0.02}, duration_s=5, noise_rad=0, encoder_counts=None)
+    expect = np.interp(log.t - 0.012, log.t, log.true_joint_angle_rad) + 0.02
+    assert np.max(np.abs(log.joint_angle_rad - expect)[100:]) < 2e-4
+
+
+def test_encoder_quantisation_and_noise(d):
+    log = simulate_joint(d, {}, duration_s=5, seed=3)
+    q = 2 * math.pi / 4096
+    assert np.allclose(log.joint_angle_rad / q, np.rint(log.joint_angle_rad / q), atol=1e-6)
+    e = log.joint_angle_rad - log.true_joint_angle_rad
+    assert np.std(e) == pytest.approx(math.sqrt(1e-6 + q**2 / 12), rel=0.1)
+
+
+def test_effective_radius_scales(d):
+    a = simulate_joint(d, {"effective_radius": 1.05}, duration_s=3, noise_rad=0, encoder_counts=None)
+    b = simulate_joint(d, {}, duration_s=3, noise_rad=0, encoder_counts=None)
+    assert np.allclose(a.true_joint_angle_rad, 1.05 * b.true_joint_angle_rad, atol=1e-6)
+
+
+def test_parse_effects():
+    assert parse_effects(["backlash", "sensor_delay=0.02"]) == {"backlash": EFFECT_DEFAULTS["backlash"][0],
+                                                                 "sensor_delay": 0.02}
+    with pytest.raises(ValueError, match="did you mean 'backlash'"):
+        parse_effects(["backlsh"])
+    with pytest.raises(ValueError, match="not a number"):
+        parse_effects(["offset=abc"])
+    with pytest.raises(ValueError, match="must be >= 0"):
+        parse_effects(["sensor_delay=-1"])
+
+
+def test_cli_writes_joint_log(tmp_path, capsys):
+    out = tmp_path / "j.csv"
+    code = main(["synth", "joint", "--effect", "backlash", "--effect", "offset=0.01", "--out", str(out),
+                 "--seed", "5", "--duration", "3", "--design", str(DEFAULT_DESIGN)])
+    assert code == 0
+    lines = out.read_text().splitlines()
+    assert lines[0] == "time_s,motor_angle_rad,joint_angle_rad"
+    assert len(lines) == 3001
+    assert "backlash=0.01" in capsys.readouterr().out
+
+
+def test_cli_bad_effect_exit_2(tmp_path, capsys):
+    code = main(["synth", "joint", "--effect", "cogging_torque", "--out", str(tmp_path / "x.csv"),
+                 "--design", str(DEFAULT_DESIGN)])
+    err = capsys.readouterr().err
+    assert code == 2 and "unknown effect 'cogging_torque'" in err and "did you mean 'cogging'" in err
