@@ -1,0 +1,159 @@
+"""Write the simulator robot folder and the mass-properties file of a design.
+
+``write_robot(params, parts, out_dir)`` ->
+
+    out_dir/robot/swiftfin.urdf, swiftfin.xml (MJCF), swiftfin.sdf, meshes/<link>_{visual,collision}.obj
+    out_dir/mass_properties.json
+
+Everything goes through one :class:`exports.robot_model.Robot` (house style rule 11). The mass properties
+pass the gate of :func:`exports.massprops.validate` first, and the MJCF is compiled by MuJoCo before anything
+is written: a failure raises :class:`swiftfin.errors.BuildError` naming the part/link and the check, and
+leaves no partial robot folder (files are written to a temporary folder and renamed into place).
+
+Meshes: the visual mesh of a link is its parts' tessellation (export tolerances) in the link frame, in metres,
+decimated to ``export.visual_triangle_budget`` triangles (quadric decimation, fast_simplification); the
+collision mesh is the convex hull of the visual mesh. Where the decimator stalls (it will not collapse
+some edges of CAD tessellations) the parts are tessellated again, coarser, until the budget is met.
+"""
+from __future__ import annotations
+
+import json
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from exports import massprops, units
+from exports.mjcf import mjcf_bytes
+from exports.robot_model import Robot, collision_mesh_file, robot_from_design, visual_mesh_file
+from exports.sdf import sdf_bytes
+from exports.urdf import urdf_bytes
+from swiftfin.errors import BuildError
+
+ROBOT_NAME = "swiftfin"
+
+
+def as_trimesh(mesh):
+    """A trimesh.Trimesh from a trimesh or an exports.files.Mesh (vertices/faces arrays), in mm."""
+    import trimesh
+    if isinstance(mesh, trimesh.Trimesh):
+        return mesh
+    return trimesh.Trimesh(np.asarray(mesh.vertices, dtype=float), np.asarray(mesh.faces, dtype=np.int64),
+                           process=False)
+
+
+def obj_bytes(vertices, faces, comment: str) -> bytes:
+    """A minimal Wavefront OBJ (vertices and triangles only), deterministic."""
+    lines = [f"# {comment}"]
+    lines += [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in np.asarray(vertices, dtype=float).tolist()]
+    lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in np.asarray(faces, dtype=np.int64).tolist()]
+    return ("\n".join(lines) + "\n").encode("ascii")
+
+
+def decimate(mesh, budget: int):
+    """Quadric decimation (fast_simplification) toward at most ``budget`` triangles; may stop short (it
+    will not collapse some edges of CAD tessellations: long thin triangles on flat faces)."""
+    out, target = mesh, budget
+    for _ in range(4):
+        if len(out.faces) <= budget:
+            break
+        n0 = len(out.faces)
+        out = out.simplify_quadric_decimation(face_count=max(4, int(target)))
+        if len(out.faces) >= 0.98 * n0:
+            break                                   # stalled
+        target *= 0.8 * budget / max(len(out.faces), 1)
+    return out
+
+
+def link_visual_mesh(parts, meshes: dict, origin_m, budget: int, tolerance_mm: float, angular_deg: float):
+    """A link's visual mesh (link frame, metres) within ``budget`` triangles: the export tessellation
+    decimated; where decimation stalls, the parts are tessellated again with a coarser deflection (x2 per
+    round) and decimated again."""
+    import trimesh
+    tol, ang = tolerance_mm, angular_deg
+    pieces = [as_trimesh(meshes[p.label]) for p in parts]
+    for _ in range(8):
+        merged = trimesh.util.concatenate(pieces)
+        merged.apply_translation(-units.length_mm(np.asarray(origin_m)))
+        merged.apply_scale(units.M_PER_MM)
+        visual = decimate(merged, budget)
+        if len(visual.faces) <= budget:
+            return visual
+        tol, ang = 2 * tol, min(45.0, 1.5 * ang)
+        pieces = [massprops.tessellate(p.solid, tol, ang) for p in parts]
+    raise BuildError(f"visual mesh: cannot bring {len(parts)} parts under {budget} triangles")
+
+
+def link_meshes(params, report: massprops.MassReport, meshes: dict, parts) -> dict[str, tuple]:
+    """{file name: (vertices [m], faces)} of every link's visual and collision mesh, in the link frame."""
+    e = params.export
+    by_label = {p.label: p for p in parts}
+    out = {}
+    for lk in report.links:
+        members = [by_label[label] for label in lk.parts if label in by_label]     # cables: no solid
+        visual = link_visual_mesh(members, meshes, lk.origin_m, e.visual_triangle_budget, e.mesh_tolerance_mm,
+                                  e.mesh_angular_tolerance_deg)
+        hull = visual.convex_hull          # of the decimated mesh: a light collision hull
+        out[visual_mesh_file(lk.name)] = (visual.vertices, visual.faces)
+        out[collision_mesh_file(lk.name)] = (hull.vertices, hull.faces)
+    return out
+
+
+def check_mjcf(folder: Path, xml_name: str, robot: Robot) -> None:
+    """MuJoCo compiles the MJCF and its body masses match the model's (1e-9 relative)."""
+    import mujoco
+    try:
+        model = mujoco.MjModel.from_xml_path(str(folder / xml_name))
+    except ValueError as exc:
+        raise BuildError(f"MJCF: MuJoCo refused the model: {exc}") from exc
+    for lk in robot.links:
+        m = model.body(lk.name).mass[0]
+        if abs(m - lk.inertial.mass_kg) > 1e-9 * lk.inertial.mass_kg:
+            raise BuildError(f"link {lk.name}: MuJoCo mass {m!r} kg differs from {lk.inertial.mass_kg!r} kg")
+
+
+def write_robot(params, parts, out_dir, meshes: dict | None = None,
+                report: massprops.MassReport | None = None) -> dict:
+    """Mass properties, gate, robot model and simulator files of a design. Returns a summary dict.
+
+    ``parts``: the design's PartSpecs; ``meshes``: optional {label: mesh in mm} (exports.files.Mesh or trimesh),
+    the tessellations already made for the STL files (tessellated here otherwise).
+    """
+    e = params.export
+    meshes = {k: as_trimesh(v) for k, v in (meshes or {}).items()}
+    for part in parts:
+        if part.label not in meshes:
+            meshes[part.label] = massprops.tessellate(part.solid, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg)
+    if report is None:
+        report = massprops.mass_properties(params, parts, meshes)
+    checks = massprops.validate(params, report, parts, meshes)
+    robot = robot_from_design(params, parts, report, ROBOT_NAME)
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    final = out_dir / "robot"
+    tmp = Path(tempfile.mkdtemp(prefix=".robot-", dir=out_dir))
+    try:
+        (tmp / "meshes").mkdir()
+        for name, (v, f) in link_meshes(params, report, meshes, parts).items():
+            (tmp / name).write_bytes(obj_bytes(v, f, f"swiftfin {name} (m, link frame)"))
+        (tmp / f"{ROBOT_NAME}.urdf").write_bytes(urdf_bytes(robot))
+        (tmp / f"{ROBOT_NAME}.xml").write_bytes(mjcf_bytes(robot))
+        (tmp / f"{ROBOT_NAME}.sdf").write_bytes(sdf_bytes(robot))
+        check_mjcf(tmp, f"{ROBOT_NAME}.xml", robot)
+        data = massprops.report_to_dict(params, report)
+        data["checks"] = checks
+        text = json.dumps(data, indent=1) + "\n"
+        if final.exists():
+            shutil.rmtree(final)
+        tmp.chmod(0o755)                  # mkdtemp made it private
+        tmp.rename(final)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    (out_dir / "mass_properties.json").write_text(text)
+    files = sorted(str(p.relative_to(out_dir)) for p in final.rglob("*") if p.is_file())
+    return {"robot_dir": str(final), "files": files + ["mass_properties.json"],
+            "total_mass_kg": report.total.mass_kg, "displaced_volume_m3": report.displaced_volume_m3,
+            "buoyancy_n": report.buoyancy_n, "weight_n": report.weight_n,
+            "cob_com_distance_m": report.cob_com_distance_m, "checks": checks, "report": report, "robot": robot}

@@ -1,0 +1,225 @@
+"""The one intermediate robot description every simulator file is written from (house style rule 11).
+
+A frozen :class:`Robot` of :class:`Link`, :class:`Joint` and :class:`Tendon`, in SI units. Frames:
+
+* the base link ``head`` has its frame at the nose (the body frame of cad/layout.py: +x forward, +z up);
+* link j's frame has its origin on joint j's axis at z = 0 and axes parallel to the body frame at rest;
+  ``Joint.T_parent_child`` is the pose of the child's frame in the parent's at zero joint angle (a pure
+  translation along -x);
+* inertials are about the link COM in link axes (:class:`exports.massprops.Inertial`, COM in the link frame).
+
+Joint axis: ``(0, 0, -1)``, so that a positive joint angle turns the child's tail toward +y (cad/layout.py).
+
+Water: every swimming link carries a ``fluid`` ellipsoid (centre and semi-axes in the link frame) whose volume
+equals the link's displaced volume and whose proportions follow the hull there (its length along x, its
+height/width ratio), plus a thin ellipsoid for the caudal fin; MuJoCo's ellipsoid fluid model uses them.
+Buoyancy (``Link.displaced_volume_m3``, ``Link.cob_m``): the exporters that can express it do so.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from cad import layout
+from exports import units
+from exports.massprops import Inertial, MassReport, link_origin_mm
+from swiftfin.schema import Params
+
+JOINT_AXIS = (0.0, 0.0, -1.0)
+
+
+@dataclass(frozen=True)
+class Pose:
+    """A rigid transform: translation [m] and roll-pitch-yaw [rad] (fixed axes X, Y, Z)."""
+    xyz_m: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    rpy_rad: tuple[float, float, float] = (0.0, 0.0, 0.0)
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """``kind``: "mesh" (``mesh_file`` relative to the robot folder, metres), "box" (full sizes),
+    "ellipsoid" (semi-axes), "cylinder" (radius, length), "sphere" (radius,)."""
+    name: str
+    kind: str
+    size_m: tuple[float, ...] = ()
+    mesh_file: str = ""
+    T_link_geom: Pose = Pose()
+
+
+@dataclass(frozen=True)
+class Link:
+    name: str
+    inertial: Inertial                  # COM in the link frame, inertia about the COM in link axes
+    visuals: tuple[Geometry, ...]
+    collisions: tuple[Geometry, ...]
+    fluid: tuple[Geometry, ...]         # ellipsoids for the fluid model
+    displaced_volume_m3: float
+    cob_m: tuple[float, float, float]   # centre of buoyancy, link frame
+
+
+@dataclass(frozen=True)
+class Joint:
+    name: str
+    parent: str
+    child: str
+    T_parent_child: Pose
+    axis: tuple[float, float, float]
+    lower_rad: float
+    upper_rad: float
+    effort_nm: float
+    velocity_rad_s: float
+    damping_nm_s_rad: float
+    armature_kg_m2: float               # motor rotor inertia reflected through the capstan
+
+
+@dataclass(frozen=True)
+class Tendon:
+    """A capstan cable as a fixed tendon: length change = coef * joint angle (coef = tendon moment arm)."""
+    name: str
+    joint: str
+    coef_m: float
+
+
+@dataclass(frozen=True)
+class Actuator:
+    """A position servo on a joint (the stepper's closed step loop), torque limited to the motor's."""
+    name: str
+    joint: str
+    kp_nm_rad: float
+    kv_nm_s_rad: float
+    torque_limit_nm: float
+
+
+@dataclass(frozen=True)
+class Medium:
+    density_kg_m3: float
+    viscosity_pa_s: float
+    gravity_m_s2: float
+
+
+@dataclass(frozen=True)
+class Robot:
+    name: str
+    links: tuple[Link, ...]
+    joints: tuple[Joint, ...]
+    tendons: tuple[Tendon, ...]
+    actuators: tuple[Actuator, ...]
+    medium: Medium
+
+    def link(self, name: str) -> Link:
+        return next(lk for lk in self.links if lk.name == name)
+
+
+# ----------------------------------------------------------------------------------------------- from a design
+SERVO_DERIVATIVE_TIME_S = 1.0 / (2 * math.pi * 50.0)
+"""kv / kp of the joint position servo [s]: damping up to 50 Hz (the step loop is far faster than the wave)."""
+
+
+def joint_stiffness_nm_rad(p: Params) -> float:
+    """Small-angle stiffness of a stepper held in position, seen at the joint [N m/rad].
+
+    A hybrid stepper's holding torque follows T = T_hold sin(pi/2 theta/theta_fs) (peak one full step from
+    the detent), so its stiffness is T_hold pi / (2 theta_fs); the capstan multiplies a motor stiffness by
+    (d_mount / r_spool)^2 at the joint.
+    """
+    fs = math.radians(p.motor.full_step_deg)
+    ratio = p.joints.tendon_moment_arm_mm / (p.spool.drum_diameter_mm / 2)
+    return p.motor.holding_torque_nm * math.pi / (2 * fs) * ratio**2
+
+
+def joint_torque_limit_nm(p: Params) -> float:
+    """Joint torque at the motor's holding torque: tau_motor * d_mount / r_spool (cable tension x arm)."""
+    return p.motor.holding_torque_nm * p.joints.tendon_moment_arm_mm / (p.spool.drum_diameter_mm / 2)
+
+
+def reflected_armature_kg_m2(p: Params) -> float:
+    """Rotor inertia seen at the joint: J_rotor (d_mount / r_spool)^2 (the spool turns d/r times the joint)."""
+    ratio = p.joints.tendon_moment_arm_mm / (p.spool.drum_diameter_mm / 2)
+    return p.motor.rotor_inertia_kg_m2 * ratio**2
+
+
+def fluid_ellipsoid(p: Params, report: MassReport, j: int) -> Geometry:
+    """Ellipsoid of link j's hull envelope: length of its span of stations, volume = displaced hull volume."""
+    js = layout.joint_stations_mm(p)
+    bounds = [0.0, *js, layout.hull_end_mm(p)]
+    s0, s1 = bounds[j], bounds[j + 1]
+    from exports.massprops import envelope_volume_mm3
+    V, s_c = envelope_volume_mm3(p, s0, s1)
+    ax = (s1 - s0) / 2
+    # a_y * a_z = 3 V / (4 pi a_x), a_z = k a_y
+    k = p.body.height_to_width
+    ay = math.sqrt(3 * V / (4 * math.pi * ax) / k)
+    origin = link_origin_mm(p, j)
+    centre = units.length_m(np.array([-(s0 + s1) / 2 - origin[0], 0.0, 0.0]))
+    return Geometry(f"{report.links[j].name}_fluid", "ellipsoid",
+                    tuple(float(v) for v in units.length_m(np.array([ax, ay, k * ay]))), "",
+                    Pose(tuple(float(v) for v in centre)))
+
+
+def fin_ellipsoid(p: Params, parts, last_link: int) -> Geometry | None:
+    """A thin ellipsoid over the caudal fin's bounding box behind the hull end (span z, chord x, thickness y)."""
+    x_end = -layout.hull_end_mm(p)
+    lo, hi = None, None
+    for part in parts:
+        if part.family != "fin":
+            continue
+        bb = part.solid.bounding_box()
+        a = np.array([bb.min.X, bb.min.Y, bb.min.Z])
+        b = np.array([min(bb.max.X, x_end), bb.max.Y, bb.max.Z])
+        lo = a if lo is None else np.minimum(lo, a)
+        hi = b if hi is None else np.maximum(hi, b)
+    if lo is None or hi[0] <= lo[0]:
+        return None
+    origin = np.asarray(link_origin_mm(p, last_link))
+    centre = units.length_m((lo + hi) / 2 - origin)
+    semi = units.length_m((hi - lo) / 2)
+    return Geometry("caudal_fin_fluid", "ellipsoid", tuple(float(v) for v in semi), "",
+                    Pose(tuple(float(v) for v in centre)))
+
+
+def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfin") -> Robot:
+    """The Robot of a design: links and inertials from ``report``, joints from cad.layout.
+
+    Mesh file names follow :func:`visual_mesh_file` / :func:`collision_mesh_file` (written by exports.robot).
+    """
+    n = p.joints.count
+    stops = layout.joint_stop_angles_rad(p)
+    links = []
+    for lk, V, cob in zip(report.links, report.link_displaced_volume_m3, report.link_cob_m):
+        fluid = [fluid_ellipsoid(p, report, lk.index)]
+        if lk.index == n:
+            fin = fin_ellipsoid(p, parts, n)
+            if fin is not None:
+                fluid.append(fin)
+        visual = Geometry(f"{lk.name}_visual", "mesh", (), visual_mesh_file(lk.name))
+        collision = Geometry(f"{lk.name}_collision", "mesh", (), collision_mesh_file(lk.name))
+        cob_link = tuple(float(v) for v in np.asarray(cob) - np.asarray(lk.origin_m))
+        links.append(Link(lk.name, lk.inertial, (visual,), (collision,), tuple(fluid), float(V), cob_link))
+    joints, tendons, actuators = [], [], []
+    tau = joint_torque_limit_nm(p)
+    arm = reflected_armature_kg_m2(p)
+    # max joint speed: the wave's peak relative angle times omega (x2 margin)
+    w_max = 2.0 * 2 * math.pi * p.swimming.tail_beat_frequency_hz * max(stops)
+    for j in range(1, n + 1):
+        parent, child = report.links[j - 1], report.links[j]
+        d = np.asarray(child.origin_m) - np.asarray(parent.origin_m)
+        jn = f"joint_{j}"
+        joints.append(Joint(jn, parent.name, child.name, Pose(tuple(float(v) for v in d)), JOINT_AXIS,
+                            -stops[j - 1], stops[j - 1], tau, w_max, 1e-3, arm))
+        tendons.append(Tendon(f"cable_{j}", jn, units.length_m(p.joints.tendon_moment_arm_mm)))
+        kp = joint_stiffness_nm_rad(p)
+        kv = kp * SERVO_DERIVATIVE_TIME_S
+        actuators.append(Actuator(f"motor_{j}", jn, kp, kv, tau))
+    env = p.environment
+    return Robot(name, tuple(links), tuple(joints), tuple(tendons), tuple(actuators),
+                 Medium(env.water_density_kg_m3, env.water_viscosity_pa_s, env.gravity_m_s2))
+
+
+def visual_mesh_file(link: str) -> str:
+    return f"meshes/{link}_visual.obj"
+
+
+def collision_mesh_file(link: str) -> str:
+    return f"meshes/{link}_collision.obj"

@@ -1,0 +1,34 @@
+"""Shared by the robot-export and swimming tests: a small stand-in design of boxes, one or two per link, at
+the real layout's stations (fast), and the default design's real parts (slow)."""
+from __future__ import annotations
+
+from build123d import Axis, Box, Pos
+
+from cad import layout
+from cad.part import PartSpec
+
+
+def mini_parts(p) -> list[PartSpec]:
+    """A box per link inside the hull at its segment's middle (one turned 30 deg about z so the tensor has
+    products of inertia), a bought 'battery' in the head, and a thin 'fin' plate behind the hull end."""
+    out = []
+    for seg in layout.hull_segments(p):
+        s = 0.5 * (seg.s_start_mm + seg.s_end_mm)
+        length = min(40.0, 0.6 * (seg.s_end_mm - seg.s_start_mm))
+        box = Pos(-s, 0, 2.0) * Box(length, 12, 10)
+        if seg.link == 1:
+            box = Pos(-s, 0, 2.0) * Box(length, 12, 10).rotate(Axis.Z, 30)
+        out.append(PartSpec(f"block_{seg.name}", box, seg.link, "test"))
+    out.append(PartSpec("battery", Pos(-0.09 * p.body.length_mm, 0, -12) * Box(48.5, 26.5, 17.5), 0, "bought",
+                        printed=False, mass_kg=0.046))
+    x_fin = -(layout.hull_end_mm(p) + 25.0)
+    out.append(PartSpec("fin_plate", Pos(x_fin, 0, 0) * Box(30, 2.4, 120), p.joints.count, "fin"))
+    return out
+
+
+def default_parts(p) -> list[PartSpec]:
+    from cad.registry import FAMILIES, family_function
+    parts = []
+    for name in FAMILIES:
+        parts += family_function(name)(p)
+    return parts

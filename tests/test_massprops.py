@@ -1,0 +1,266 @@
+"""Mass properties: closed forms for solids, the print model, the inertial algebra and the validation gate."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from build123d import Axis, Box, Cylinder, Location, Pos
+
+from cad.part import PartSpec
+from exports import massprops as mp
+from swiftfin.errors import BuildError
+from swiftfin.schema import Params
+
+RHO = 1240.0
+
+
+def box_inertia(m, a, b, c):
+    return np.diag([m * (b * b + c * c) / 12, m * (a * a + c * c) / 12, m * (a * a + b * b) / 12])
+
+
+@pytest.fixture(scope="module")
+def pm():
+    return mp.PrintModel.from_params(Params())
+
+
+# ----------------------------------------------------------------------------------------------- solids
+def test_brep_inertia_of_a_rotated_offset_box_is_the_closed_form():
+    solid = Box(10, 20, 30).rotate(Axis.Z, 30).moved(Location((5, 6, 7)))
+    it = mp.solid_volume_props(solid).inertial(RHO)
+    m = RHO * 10e-3 * 20e-3 * 30e-3
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    R = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    assert it.mass_kg == pytest.approx(m, rel=1e-12)
+    assert np.allclose(it.com, [5e-3, 6e-3, 7e-3], rtol=1e-12)
+    assert np.allclose(it.inertia, R @ box_inertia(m, 0.01, 0.02, 0.03) @ R.T, rtol=1e-9, atol=1e-15)
+
+
+def test_mesh_and_brep_agree_for_a_cylinder():
+    cyl = Pos(3, -4, 5) * Cylinder(10, 40)
+    a = mp.solid_volume_props(cyl)
+    b = mp.mesh_volume_props(mp.tessellate(cyl, 0.01, 5))
+    assert b.volume_mm3 == pytest.approx(a.volume_mm3, rel=2e-3)
+    assert np.allclose(b.centroid_mm, a.centroid_mm, atol=1e-6)
+    assert np.allclose(b.second_moment_mm5, a.second_moment_mm5, rtol=5e-3, atol=1e-6 * np.abs(a.second_moment_mm5).max())
+
+
+# ----------------------------------------------------------------------------------------------- inertial algebra
+def test_combine_two_masses_parallel_axis_closed_form():
+    """Two equal boxes 0.1 m apart on x: COM in the middle, Iyy = Izz gain 2 m (0.05)^2."""
+    I0 = box_inertia(1.0, 0.02, 0.02, 0.02)
+    a = mp.make_inertial(1.0, (0.0, 0, 0), I0)
+    b = mp.make_inertial(1.0, (0.1, 0, 0), I0)
+    c = mp.combine([a, b])
+    assert c.mass_kg == 2.0
+    assert np.allclose(c.com, [0.05, 0, 0])
+    assert np.allclose(c.inertia, 2 * I0 + np.diag([0.0, 2 * 0.05**2, 2 * 0.05**2]), rtol=1e-12)
+
+
+def test_subtracting_a_core_equals_the_hollow_solid():
+    """Solid minus an off-centre core (negative mass) == OCC's own hollow solid."""
+    outer = Box(40, 30, 20)
+    inner = Pos(2, -1, 1.5) * Box(30, 20, 10)
+    a = mp.solid_volume_props(outer).inertial(RHO)
+    b = mp.solid_volume_props(inner).inertial(RHO)
+    hollow = mp.combine([a, b.scaled_mass(-1.0)])
+    ref = mp.solid_volume_props(outer - inner).inertial(RHO)
+    assert hollow.mass_kg == pytest.approx(ref.mass_kg, rel=1e-9)
+    assert np.allclose(hollow.com, ref.com, rtol=1e-9, atol=1e-12)
+    assert np.allclose(hollow.inertia, ref.inertia, rtol=1e-8, atol=1e-14)
+
+
+def test_rotate_then_compute_equals_compute_then_rotate():
+    solid = Pos(10, 5, -3) * Box(40, 12, 7)
+    R_deg = 37.0
+    a = mp.solid_volume_props(solid.rotate(Axis.Z, R_deg)).inertial(RHO)
+    c, s = math.cos(math.radians(R_deg)), math.sin(math.radians(R_deg))
+    R = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    b = mp.solid_volume_props(solid).inertial(RHO).rotated(R)
+    assert np.allclose(a.com, b.com, atol=1e-12)
+    assert np.allclose(a.inertia, b.inertia, rtol=1e-9, atol=1e-14)
+
+
+# ----------------------------------------------------------------------------------------------- print model
+def test_layer_core_of_a_block_with_a_hole_is_the_closed_form(pm):
+    """Side walls w = 3 x 0.45, skins 5 x 0.2 on top and 4 x 0.2 below: a prism core, a bigger hole."""
+    solid = Box(40, 30, 20) - Cylinder(5, 20)
+    core = mp.layer_core(mp.tessellate(solid, 0.01, 5), np.eye(3), pm, 0.2)
+    w, h = 1.35, 20 - 1.0 - 0.8
+    V = (40 - 2 * w) * (30 - 2 * w) * h - math.pi * (5 + w) ** 2 * h
+    assert core.props.volume_mm3 == pytest.approx(V, rel=2e-3)
+    # the core sits 0.1 mm low: 0.8 mm skin below, 1.0 mm above
+    assert core.props.centroid_mm[2] == pytest.approx(-0.1, abs=0.02)
+
+
+def test_layer_core_follows_the_print_orientation(pm):
+    """Printed on its side (Rx 90 deg), the 30 mm side is vertical: skins on y, walls on x and z."""
+    solid = Box(40, 30, 20)
+    R = mp.rotation_matrix((90, 0, 0))
+    core = mp.layer_core(mp.tessellate(solid, 0.01, 5), R, pm, 0.2)
+    V = (40 - 2.7) * (30 - 1.8) * (20 - 2.7)
+    assert core.props.volume_mm3 == pytest.approx(V, rel=2e-3)
+    # up in print = -y in the body frame (R maps +z to -y? no: body -> print, so print up = R^T e_z)
+    up = R.T @ [0, 0, 1]
+    offset = np.dot(core.props.centroid_mm, up)
+    assert offset == pytest.approx(-0.1, abs=0.02)
+
+
+def band_mm2(a, b, o=0.25 * 0.45):
+    """Area of the infill-overlap band inside an a x b rectangle."""
+    return a * b - (a - 2 * o) * (b - 2 * o)
+
+
+def test_printed_box_mass_and_inertia_closed_form(pm):
+    """40 x 30 x 20 block, 100 layers of 0.2 mm: solid minus 0.8 x core (37.3 x 27.3 x 18.2, 0.1 mm low), plus
+    the infill-overlap band inside the 37.3 x 27.3 inner contour (density 1 in the 9 skin layers, 0.2
+    elsewhere), plus the first top skin layer laid as a bridge over the sparse infill (1.396 x plastic)."""
+    solid = Box(40, 30, 20)
+    part = PartSpec("block", solid, 0, "test")
+    r = mp.part_mass(part, pm, mp.tessellate(solid, 0.01, 5), 0.2)
+    a, b, c = 40e-3, 30e-3, 20e-3
+    ca, cb, cc = a - 2.7e-3, b - 2.7e-3, c - 1.8e-3
+    k = 1 - pm.infill_fraction
+    z = np.array([(i + 0.5) * 0.2 - 10.0 for i in range(100)])            # layer mid-heights, body z [mm]
+    wts = np.where((np.arange(100) < 4) | (np.arange(100) >= 95), 1.0, 0.2)
+    band = band_mm2(37.3, 27.3) * 0.2 * wts                                 # [mm^3] per layer
+    bridge = (mp.bridge_flow_factor(0.4, 0.2) - 1) * 37.3 * 27.3 * 0.2     # layer 95 [mm^3]
+    assert mp.bridge_flow_factor(0.4, 0.2) == pytest.approx(math.pi * 0.04 / (0.45 * 0.2))
+    V_extra = (band.sum() + bridge) * 1e-9
+    m_s, m_c = RHO * a * b * c, RHO * ca * cb * cc
+    m = m_s - k * m_c + RHO * V_extra
+    assert r.inertial.mass_kg == pytest.approx(m, rel=1e-3)
+    assert r.volume_material_m3 == pytest.approx(a * b * c - k * ca * cb * cc + V_extra, rel=1e-3)
+    assert r.volume_core_m3 == pytest.approx(ca * cb * cc, rel=1e-3)
+    first = k * m_c * 0.1e-3 + RHO * 1e-9 * 1e-3 * (np.dot(band, z) + bridge * z[95])
+    assert r.inertial.com_m[2] == pytest.approx(first / m, abs=2e-6)
+    I = box_inertia(m_s, a, b, c) - k * box_inertia(m_c, ca, cb, cc)
+    assert np.allclose(np.diag(r.inertial.inertia), np.diag(I), rtol=2e-2)
+    assert r.flags == ()
+
+
+def test_small_core_pieces_print_solid(pm):
+    """A 10 x 10 mm pillar: its core section (7.3 mm)^2 = 53 mm^2 < 70 mm^2, so the slicer fills it solid
+    (and the solid infill overlaps the perimeters by 0.1125 mm on all 100 layers)."""
+    solid = Box(10, 10, 20)
+    r = mp.part_mass(PartSpec("pillar", solid, 0, "test"), pm, mp.tessellate(solid, 0.01, 5), 0.2)
+    assert r.volume_core_m3 == 0.0
+    V = 2000.0 + band_mm2(7.3, 7.3) * 0.2 * 100
+    assert r.inertial.mass_kg == pytest.approx(RHO * V * 1e-9, rel=1e-4)
+    assert any("empty" in f for f in r.flags)
+
+
+def test_thin_shell_prints_solid(pm):
+    """A square tube with walls of 2 mm < 2 w = 2.7 mm: no core at all."""
+    solid = Box(40, 40, 40) - Box(36, 36, 40)
+    r = mp.part_mass(PartSpec("shell", solid, 0, "test"), pm, mp.tessellate(solid, 0.01, 5), 0.2)
+    assert r.volume_core_m3 == 0.0
+    assert r.overlap is None
+    assert r.inertial.mass_kg == pytest.approx(RHO * solid.volume * 1e-9, rel=1e-9)
+
+
+def test_occ_offset_model_is_the_uniform_offset(pm):
+    """The second model: uniform offset w everywhere (skins thinner than w do not matter)."""
+    solid = Box(40, 30, 20)
+    core = mp.occ_core(solid, np.array([0, 0, 1.0]), pm)
+    assert core.props.volume_mm3 == pytest.approx((40 - 2.7) * (30 - 2.7) * (20 - 2.7), rel=1e-6)
+
+
+def test_voxel_fallback_is_close(pm):
+    solid = Box(40, 30, 20)
+    core = mp.voxel_core(mp.tessellate(solid, 0.01, 5), np.eye(3), pm)
+    V = (40 - 2.7) * (30 - 2.7) * (20 - 1.8)
+    assert core.props.volume_mm3 == pytest.approx(V, rel=0.08)
+
+
+def test_fallback_chain_flags_the_part(pm, monkeypatch):
+    """When the layer model fails the next one is used and the part says so."""
+    def broken(*a, **k):
+        raise ValueError("mesh is not a manifold")
+    monkeypatch.setattr(mp, "layer_core", broken)
+    solid = Box(40, 30, 20)
+    r = mp.part_mass(PartSpec("block", solid, 0, "test"), pm, mp.tessellate(solid, 0.01, 5), 0.2)
+    assert any(f.startswith("core:layers failed") for f in r.flags)
+    assert "offset" in r.method
+
+
+def test_bought_part_uses_the_catalogue_mass(pm):
+    solid = Pos(-100, 0, 5) * Box(48.5, 26.5, 17.5)
+    r = mp.part_mass(PartSpec("battery", solid, 0, "bought", printed=False, mass_kg=0.046), pm)
+    assert r.inertial.mass_kg == 0.046
+    assert np.allclose(r.inertial.inertia, box_inertia(0.046, 0.0485, 0.0265, 0.0175), rtol=1e-9, atol=1e-14)
+    with pytest.raises(BuildError, match="battery"):
+        mp.part_mass(PartSpec("battery", solid, 0, "bought", printed=False, mass_kg=None), pm)
+
+
+# ----------------------------------------------------------------------------------------------- gate
+def test_check_tensor_refuses_bad_tensors():
+    good = box_inertia(1, 0.1, 0.2, 0.3)
+    mp.check_tensor("ok", good, 1.0)
+    with pytest.raises(BuildError, match="positive-definite"):
+        mp.check_tensor("neg", np.diag([1e-3, 1e-3, -1e-5]), 1.0)
+    with pytest.raises(BuildError, match="triangle"):
+        mp.check_tensor("tri", np.diag([1e-3, 1e-3, 3e-3]), 1.0)
+    with pytest.raises(BuildError, match="symmetric"):
+        bad = good.copy()
+        bad[0, 1] += 1e-4
+        mp.check_tensor("asym", bad, 1.0)
+
+
+def test_tiny_inertia_survives_the_json_round_trip():
+    import json
+    tiny = 3.141592653589793e-11
+    assert json.loads(json.dumps({"i": tiny}))["i"] == tiny
+
+
+# ----------------------------------------------------------------------------------------------- cables
+def test_rod_inertia_closed_form():
+    it = mp.rod_inertial(0.01, (0, 0, 0), (0.3, 0, 0), 0.0005)
+    assert np.allclose(it.com, [0.15, 0, 0])
+    across = 0.01 * (3 * 0.0005**2 + 0.09) / 12
+    assert np.allclose(np.diag(it.inertia), [0.01 * 0.0005**2 / 2, across, across], rtol=1e-12)
+
+
+def test_cable_mass_is_linear_density_times_length(default_params):
+    from cad import layout
+    p = default_params
+    cables = mp.cable_masses(p)
+    length = sum(r.length_mm for r in layout.cable_routes(p)) / 1000
+    wraps = p.joints.count * 2 * p.spool.wraps * math.pi * p.spool.drum_diameter_mm / 1000
+    total = sum(c.inertial.mass_kg for c in cables)
+    assert total == pytest.approx(p.cable.linear_density_g_m / 1000 * (length + wraps), rel=1e-9)
+    # cables run from the head through every link ahead of the last joint; they end on the last joint's
+    # tendon sector, on its axis, so the last link carries none
+    assert {c.link for c in cables} == set(range(p.joints.count))
+
+
+# ----------------------------------------------------------------------------------------------- slicer
+@pytest.mark.slow
+@pytest.mark.slicer
+def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_params, tmp_path, capsys):
+    """The predicted plastic volume of every printed part of the default design is within 5 % of the
+    filament PrusaSlicer extrudes for it with the same [print] settings (exports/slicer.py)."""
+    from tests.conftest import require_tool
+    require_tool("prusa-slicer", "the printed-volume model is checked against PrusaSlicer")
+    from exports.files import export_part
+    from exports.slicer import slice_stl
+    from tests.robot_helpers import default_parts
+    p = default_params
+    pm = mp.PrintModel.from_params(p)
+    rows = []
+    for part in default_parts(p):
+        if not part.printed:
+            continue
+        ex = export_part(part, p)
+        stl = tmp_path / f"{part.label}.stl"
+        stl.write_bytes(ex.files[".stl"])
+        mesh = mp.tessellate(part.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
+        pred = mp.part_mass(part, pm, mesh, p.print.layer_height_mm).volume_material_m3 * 1e9
+        got = slice_stl(stl, p).filament_mm3
+        rows.append((part.label, pred, got, 100 * (pred / got - 1)))
+    with capsys.disabled():
+        print("\n| part | predicted [mm^3] | PrusaSlicer [mm^3] | error [%] |\n|---|---:|---:|---:|")
+        for label, pred, got, err in rows:
+            print(f"| {label} | {pred:.0f} | {got:.0f} | {err:+.2f} |")
+    bad = [r for r in rows if abs(r[3]) > 5.0]
+    assert not bad, bad

@@ -1,0 +1,214 @@
+"""Robot exports: one model -> URDF, MJCF, SDF; loaded by the real simulators (MuJoCo, PyBullet, Drake).
+
+``mini``: a stand-in design of boxes at the real layout's stations (fast); ``default``: the real parts of the
+default design (slow). Masses and inertias read back from every simulator are compared with ours.
+"""
+from __future__ import annotations
+
+import json
+import math
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from cad import layout
+from exports import massprops
+from exports.robot import write_robot
+from swiftfin.errors import BuildError
+from tests.robot_helpers import default_parts, mini_parts
+
+
+@pytest.fixture(scope="module", params=["mini", pytest.param("default", marks=pytest.mark.slow)])
+def built(request, tmp_path_factory, default_params):
+    p = default_params
+    parts = mini_parts(p) if request.param == "mini" else default_parts(p)
+    out = tmp_path_factory.mktemp(f"robot_{request.param}")
+    res = write_robot(p, parts, out)
+    return p, parts, out, res
+
+
+def _links(res):
+    return {lk.name: lk for lk in res["report"].links}
+
+
+def test_files_written(built):
+    p, parts, out, res = built
+    for name in ("swiftfin.urdf", "swiftfin.xml", "swiftfin.sdf"):
+        assert (out / "robot" / name).is_file()
+    for lk in res["report"].links:
+        assert (out / "robot" / "meshes" / f"{lk.name}_visual.obj").is_file()
+        assert (out / "robot" / "meshes" / f"{lk.name}_collision.obj").is_file()
+    data = json.loads((out / "mass_properties.json").read_text())
+    labels = {pt["label"] for pt in data["parts"]}
+    assert labels - {pt.label for pt in parts} == {c.label for c in massprops.cable_masses(p)}
+    assert sum(lk["mass_kg"] for lk in data["links"]) == pytest.approx(data["total"]["mass_kg"], rel=1e-12)
+    for lk in data["links"]:
+        lo, hi = lk["ranges"]["mass_kg"]
+        assert lo < lk["mass_kg"] < hi
+        lo, hi = lk["ranges"]["izz_kg_m2"]
+        assert lo < lk["inertia_kg_m2"]["izz"] < hi
+    assert data["total"]["paper_mass_kg"] == 1.2
+    assert data["print_settings"]["perimeters"] == p.print.perimeters
+
+
+def test_meshes_are_in_metres_and_within_budget(built):
+    p, parts, out, res = built
+    L = p.body.length_mm / 1000
+    for f in (out / "robot" / "meshes").glob("*.obj"):
+        lines = f.read_text().splitlines()
+        v = np.array([[float(x) for x in ln.split()[1:]] for ln in lines if ln.startswith("v ")])
+        nf = sum(1 for ln in lines if ln.startswith("f "))
+        assert 0.001 < np.abs(v).max() < L, f.name       # link frame, metres: nothing beyond a body length
+        if "visual" in f.name:
+            assert nf <= p.export.visual_triangle_budget
+
+
+def test_urdf_inertials_at_com_full_tensor_every_digit(built):
+    p, parts, out, res = built
+    root = ET.parse(out / "robot" / "swiftfin.urdf").getroot()
+    links = _links(res)
+    for el in root.findall("link"):
+        lk = links[el.get("name")]
+        org = el.find("inertial/origin")
+        assert [float(v) for v in org.get("xyz").split()] == list(lk.inertial.com_m)   # exact round trip
+        assert [float(v) for v in org.get("rpy").split()] == [0.0, 0.0, 0.0]
+        assert float(el.find("inertial/mass").get("value")) == lk.inertial.mass_kg
+        I = el.find("inertial/inertia")
+        M = lk.inertial.inertia
+        for k, (i, j) in {"ixx": (0, 0), "iyy": (1, 1), "izz": (2, 2), "ixy": (0, 1), "ixz": (0, 2),
+                          "iyz": (1, 2)}.items():
+            assert float(I.get(k)) == M[i, j]
+    stops = layout.joint_stop_angles_rad(p)
+    for j, el in enumerate(root.findall("joint")):
+        assert el.get("type") == "revolute"
+        assert float(el.find("limit").get("upper")) == pytest.approx(stops[j], rel=1e-12)
+        x = float(el.find("origin").get("xyz").split()[0])
+        prev = 0.0 if j == 0 else layout.joint_stations_mm(p)[j - 1]
+        assert x == pytest.approx(-(layout.joint_stations_mm(p)[j] - prev) / 1000, rel=1e-12)
+
+
+def test_link_with_products_of_inertia(built):
+    """link_1's tensor is not diagonal (the mini design's block is turned 30 deg; the real link_1 carries parts
+    above and behind its axis): the exports must carry its products of inertia."""
+    p, parts, out, res = built
+    I = _links(res)["link_1"].inertial.inertia
+    assert np.abs(I - np.diag(np.diag(I))).max() > 1e-3 * np.abs(I).max()
+
+
+def _mujoco_model(out):
+    mujoco = pytest.importorskip("mujoco", reason="MuJoCo (the mujoco package) is needed to load the MJCF")
+    return mujoco, mujoco.MjModel.from_xml_path(str(out / "robot" / "swiftfin.xml"))
+
+
+def test_mujoco_compiles_without_warnings_and_matches(built):
+    p, parts, out, res = built
+    mujoco, model = _mujoco_model(out)
+    data = mujoco.MjData(model)
+    for _ in range(200):
+        mujoco.mj_step(model, data)
+    assert all(w.number == 0 for w in data.warning), [mujoco.mjtWarning(i).name for i, w in
+                                                      enumerate(data.warning) if w.number]
+    root = ET.parse(out / "robot" / "swiftfin.xml").getroot()
+    for name, lk in _links(res).items():
+        b = model.body(name)
+        assert b.mass[0] == pytest.approx(lk.inertial.mass_kg, rel=1e-6)
+        assert np.allclose(b.ipos, lk.inertial.com_m, rtol=1e-6, atol=1e-12)
+        # rebuild the full tensor from MuJoCo's principal moments and frame
+        R = np.zeros(9)
+        mujoco.mju_quat2Mat(R, b.iquat)
+        R = R.reshape(3, 3)
+        I_mj = R @ np.diag(b.inertia) @ R.T
+        I = lk.inertial.inertia
+        assert np.allclose(I_mj, I, rtol=1e-6, atol=1e-6 * np.abs(I).max())
+        # MuJoCo's fullinertia order: ixx iyy izz ixy ixz iyz
+        el = root.find(f".//body[@name='{name}']/inertial")
+        full = [float(v) for v in el.get("fullinertia").split()]
+        assert full == [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
+        # buoyancy: gravcomp = rho_w V / m
+        V = res["robot"].link(name).displaced_volume_m3
+        assert model.body_gravcomp[b.id] == pytest.approx(p.environment.water_density_kg_m3 * V / lk.inertial.mass_kg)
+    assert model.opt.density == p.environment.water_density_kg_m3
+    assert model.opt.viscosity == p.environment.water_viscosity_pa_s
+    stops = layout.joint_stop_angles_rad(p)
+    for j in range(p.joints.count):
+        jt = model.joint(f"joint_{j + 1}")
+        assert np.allclose(jt.range, [-stops[j], stops[j]])
+        assert model.tendon(f"cable_{j + 1}") is not None
+    assert model.nu == p.joints.count
+    assert sum(1 for g in range(model.ngeom) if model.geom_fluid[g, 0] > 0) >= p.joints.count + 1
+
+
+def test_pybullet_loads_the_urdf_with_the_same_masses(built):
+    p, parts, out, res = built
+    pybullet = pytest.importorskip("pybullet", reason="PyBullet is needed to load the URDF")
+    cid = pybullet.connect(pybullet.DIRECT)
+    try:
+        body = pybullet.loadURDF(str(out / "robot" / "swiftfin.urdf"), flags=pybullet.URDF_USE_INERTIA_FROM_FILE,
+                                 physicsClientId=cid)
+        names = {-1: pybullet.getBodyInfo(body, physicsClientId=cid)[0].decode()}
+        for j in range(pybullet.getNumJoints(body, physicsClientId=cid)):
+            names[j] = pybullet.getJointInfo(body, j, physicsClientId=cid)[12].decode()
+        links = _links(res)
+        assert set(names.values()) == set(links)
+        for idx, name in names.items():
+            info = pybullet.getDynamicsInfo(body, idx, physicsClientId=cid)
+            lk = links[name]
+            assert info[0] == pytest.approx(lk.inertial.mass_kg, rel=1e-6)
+            assert sorted(info[2]) == pytest.approx(sorted(np.linalg.eigvalsh(lk.inertial.inertia)), rel=1e-5)
+    finally:
+        pybullet.disconnect(cid)
+
+
+@pytest.mark.parametrize("fname", ["swiftfin.sdf", "swiftfin.urdf"])
+def test_drake_parses(built, fname):
+    p, parts, out, res = built
+    pytest.importorskip("pydrake", reason="Drake (the drake package) is needed to parse the SDF/URDF")
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+    plant = MultibodyPlant(0.0)
+    parser = Parser(plant)
+    parser.SetStrictParsing()          # warnings become errors
+    parser.AddModels(str(out / "robot" / fname))
+    plant.Finalize()
+    for name, lk in _links(res).items():
+        b = plant.GetBodyByName(name)
+        assert b.default_mass() == pytest.approx(lk.inertial.mass_kg, rel=1e-9)
+        si = b.default_spatial_inertia()
+        assert np.allclose(si.get_com(), lk.inertial.com_m, rtol=1e-9, atol=1e-12)
+    assert plant.num_positions() == 7 + p.joints.count
+
+
+def test_failed_gate_leaves_no_robot_folder(default_params, tmp_path, monkeypatch):
+    def fail(*a, **k):
+        raise BuildError("link head: inertia tensor not positive-definite")
+    monkeypatch.setattr(massprops, "validate", fail)
+    with pytest.raises(BuildError, match="positive-definite"):
+        write_robot(default_params, mini_parts(default_params), tmp_path)
+    assert not (tmp_path / "robot").exists()
+    assert not (tmp_path / "mass_properties.json").exists()
+    assert not any(tmp_path.iterdir())
+
+
+def test_gate_catches_a_mesh_that_disagrees(default_params, tmp_path):
+    """The exported mesh of a part scaled by 1.02 (6 % volume) is refused, naming the part."""
+    p = default_params
+    parts = mini_parts(p)
+    meshes = {pt.label: massprops.tessellate(pt.solid, 0.05, 10) for pt in parts}
+    bad = parts[0].label
+    m = meshes[bad].copy()
+    m.apply_scale(1.02)
+    meshes[bad] = m
+    with pytest.raises(BuildError, match=bad):
+        write_robot(p, parts, tmp_path, meshes=meshes)
+    assert not (tmp_path / "robot").exists()
+
+
+def test_units_in_the_files_are_si(built):
+    """Total mass ~ kilograms, link COMs within a body length of the nose, in metres."""
+    p, parts, out, res = built
+    L = p.body.length_mm / 1000
+    for lk in res["report"].links:
+        assert np.all(np.abs(lk.com_body_m) < L)
+    assert 0.01 < res["total_mass_kg"] < 10
+    assert math.isfinite(res["buoyancy_n"])
