@@ -485,8 +485,22 @@ def drive_context(d: InverseDynamicsData) -> Context:
     t = d.time_s[::q][: dec.shape[0]] if q > 1 else d.time_s
     t = t[: dec.shape[0]]
     signals = {"input": dec[:, 1], "position": dec[:, 1], "velocity": dec[:, 2], "acceleration": dec[:, 3]}
-    return Context(t, dec[:, 4], np.zeros(len(t)), dec[:, 3:4], signals, d.source,
-                   meta={"full": d, "decimation": q, "rotary": d.rotary})
+    meta = {"full": d, "decimation": q, "rotary": d.rotary}
+    if d.rotary:
+        meta.update(ROTARY_REPORT)
+    return Context(t, dec[:, 4], np.zeros(len(t)), dec[:, 3:4], signals, d.source, meta=meta)
+
+
+#: a rotary log (position_rad, torque_nm): the report's units and unit-carrying names follow its columns
+#: (the engine reads these from ``Context.meta``): m -> rad, N -> N m, N s/m -> N m s/rad, kg -> kg m^2.
+ROTARY_REPORT = {
+    "target_unit": "N m",
+    "units": {"position": "rad", "velocity": "rad/s", "acceleration": "rad/s^2", "force": "N m",
+              "inertia": "kg m^2"},
+    "unit_map": {"N": "N m", "N s/m": "N m s/rad", "m/s": "rad/s", "m": "rad", "kg": "kg m^2", "m/s^2": "rad/s^2"},
+    "param_names": {"mass_kg": "inertia_kg_m2", "Fv_n_s_m": "Fv_nm_s_rad", "dFv_neg_n_s_m": "dFv_neg_nm_s_rad", "Fc_n": "Fc_nm", "Fs_n": "Fs_nm",
+                    "vs_m_s": "vs_rad_s", "F0_n": "F0_nm", "K1_n": "K1_nm", "K2_n": "K2_nm", "K3_n": "K3_nm"},
+}
 
 
 def _engine_columns(name: str, nl_map: Callable = lambda nl: {}):
@@ -578,6 +592,7 @@ FAMILY = Family(
     base_coef_names=("mass_kg",),
     equivalent_effects=(),
     units={"position": "m", "velocity": "m/s", "acceleration": "m/s^2", "force": "N",
-           "note": "a rotary log (position_rad, torque_nm) uses the same names with N -> N m, m -> rad, "
+           "note": "a rotary log (position_rad, torque_nm) is reported in its own units (ROTARY_REPORT): N -> N m, "
+                   "m -> rad, "
                    "kg -> kg m^2"},
 )

@@ -42,18 +42,25 @@ How to add a family
 
 Model structure (what the engine assumes)
 -----------------------------------------
-    y_hat = base + base_columns @ b0 + sum_e columns_e(ctx, nl_e) @ b_e
+    y_hat = base + base_columns(nl_shared) @ b0 + sum_e columns_e(ctx, nl_e + nl_shared) @ b_e
 
-linear in every ``b`` for fixed ``nl``. Columns are computed on a whole record (a run), so effects with state
+linear in every ``b`` for fixed ``nl``. ``nl_shared`` are the family's shared nonlinear parameters
+(:attr:`Family.shared_params`) of the active effects: an effect may change the base model's shape (the body's
+tail-beat frequency, envelope exponent, wavelength) through :attr:`Family.base_columns_fn`, and several effects
+may hold one such parameter; a family without them has ``base_columns = ctx.base_columns`` and each effect's
+columns depend on its own ``nl_e`` only. An effect may have no linear coefficient at all (it only reshapes). Columns are computed on a whole record (a run), so effects with state
 (backlash, creep, delays, filters) see the full history; the train / holdout split selects rows afterwards.
 
 Selection criterion (stated once, used everywhere)
 --------------------------------------------------
 A candidate is *accepted* when, against the current model, on the held-out rows:
-  * the RMSE drops by more than ``min_relative_drop`` (default 10 %), and
+  * the RMSE drops by more than ``min_relative_drop`` (the family's default, :attr:`Family.min_relative_drop`:
+    10 % for ``joint`` and ``drive``), and
   * the drop is significant: F-test of the held-out SSE drop with the effective sample size of the autocorrelated
-    residual (:func:`heldout_f_test`), p < ``alpha`` (default 1e-3); the paired t-test on contiguous block means
-    (:func:`block_test`) is reported beside it, and
+    residual, computed per series from each series' own autocorrelation and summed (:func:`heldout_f_test`),
+    p < ``alpha`` (the family's default, :attr:`Family.alpha`: 1e-3 for ``joint`` and ``drive``, whose logs hold
+    thousands of effective samples; a short video holds a few dozen, see :mod:`calibration.body`); the paired
+    t-test on contiguous block means (:func:`block_test`) is reported beside it, and
   * its fitted parameters pass the effect's plausibility check and lie inside their bounds (not pinned).
 Every candidate is first fitted on its grid; the ``n_refine`` best are refined; the best accepted one (lowest
 held-out RMSE) is added. Then the earlier effects' nonlinear values are refined again with it (they were fitted
@@ -279,6 +286,28 @@ class Family:
                                  identical in this family's data (documented; the engine still decides from
                                  the data, this is for the report and the tests).
     units : dict                 unit of every quantity the report prints ({"time": "s", "target": "rad", ...}).
+                                 A loader may override them per record in ``Context.meta["units"]`` (and the
+                                 target's unit in ``Context.meta["target_unit"]``), e.g. a rotary drive log.
+    base_columns_fn : callable(ctx, nl_all) -> (n, k0) array, optional
+                                 base regressors as a function of the active effects' nonlinear parameters
+                                 (``nl_all``: every active effect's values merged; a name missing means the base
+                                 model's own value). For a base model whose *shape* the effects change (the body's
+                                 wave: its frequency, envelope exponent, wavelength). None: ``ctx.base_columns``.
+    shared_params : tuple[str]   nonlinear parameter names that are one physical quantity wherever they appear:
+                                 several effects may declare the same one (``p`` of ``envelope_shape`` and
+                                 ``rigid_front``), an effect may use one it does not declare (``head_yaw`` swings
+                                 at the fitted beat ``ratio``); every effect's columns and the base columns see
+                                 the single current value. Fitting a candidate that declares a shared parameter
+                                 re-fits it for the whole model.
+    alpha, min_relative_drop : the family's default selection criterion (see the module docstring); the
+                                 :class:`Calibrator` and ``swiftfin fit --alpha/--min-drop`` override it.
+    plot_rows_fn : callable(ctx) -> bool mask, optional   the rows (one series) the report's time plots show;
+                                 default: the first series with held-out rows.
+    load_many : callable(paths, design, notes=None) -> list[Context], optional   when set, ``swiftfin fit``
+                                 accepts several files (or a folder) as DATA and as --holdout: one context per
+                                 file (loaded together, so a loader can pool what the files share), stacked
+                                 with :func:`concat_contexts`, one series per file and series. Only for records
+                                 without state carried between rows (video markers); None: one file only.
     """
 
     name: str
@@ -292,6 +321,12 @@ class Family:
     base_coef_names: tuple[str, ...] = ()
     equivalent_effects: tuple[frozenset, ...] = ()
     units: dict = field(default_factory=dict)
+    base_columns_fn: Callable[[Context, dict], np.ndarray] | None = None
+    shared_params: tuple[str, ...] = ()
+    alpha: float = 1e-3
+    min_relative_drop: float = 0.10
+    plot_rows_fn: Callable[[Context], np.ndarray] | None = None
+    load_many: Callable[..., list] | None = None
 
     def effect(self, name: str) -> Effect:
         for e in self.effects:
@@ -530,13 +565,34 @@ def _rmse(e: np.ndarray) -> float:
     return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
 
 
-def block_test(e_before: np.ndarray, e_after: np.ndarray, n_blocks: int = 40) -> float:
-    """One-sided p-value that the mean squared error dropped, from a paired t-test on contiguous block means."""
+def _group_runs(groups: np.ndarray | None, n: int) -> list[np.ndarray]:
+    """Index runs of equal consecutive ``groups`` labels (one run per contiguous series); all rows if None."""
+    if groups is None:
+        return [np.arange(n)]
+    g = np.asarray(groups)
+    br = np.flatnonzero(g[1:] != g[:-1]) + 1
+    return [a for a in np.split(np.arange(n), br) if a.size]
+
+
+def block_test(e_before: np.ndarray, e_after: np.ndarray, n_blocks: int = 40,
+               groups: np.ndarray | None = None) -> float:
+    """One-sided p-value that the mean squared error dropped, from a paired t-test on contiguous block means.
+
+    ``groups``: a label per row; rows of one contiguous series carry one label. Blocks are then cut inside each
+    series (in proportion to its length), so the test does not depend on the order the series are stacked in."""
     d = e_before**2 - e_after**2
     n_blocks = int(max(4, min(n_blocks, d.size // 10)))
     if d.size < 2 * n_blocks:
         return 1.0
-    means = np.array([b.mean() for b in np.array_split(d, n_blocks)])
+    runs = _group_runs(groups, d.size)
+    chunks = []
+    for r in runs:
+        k = max(1, int(round(n_blocks * r.size / d.size)))
+        chunks += [d[c] for c in np.array_split(r, min(k, r.size)) if c.size]
+    means = np.array([b.mean() for b in chunks])
+    n_blocks = means.size
+    if n_blocks < 3:
+        return 1.0
     sd = means.std(ddof=1)
     if sd == 0:
         return 0.0 if means.mean() > 0 else 1.0
@@ -544,16 +600,28 @@ def block_test(e_before: np.ndarray, e_after: np.ndarray, n_blocks: int = 40) ->
     return float(stats.t.sf(tstat, n_blocks - 1))
 
 
-def heldout_f_test(e_before: np.ndarray, e_after: np.ndarray, k: int) -> float:
+def effective_sample_size(e: np.ndarray, groups: np.ndarray | None = None) -> float:
+    """n_eff of a residual made of one or more contiguous series: the sum over series of
+    n_i x :func:`effective_sample_fraction` of that series' own residual (its own autocorrelation; a series too
+    short to estimate one, under 8 rows, counts as one sample). Independent of the order the series are stacked
+    in; ``groups`` labels the rows (consecutive equal labels = one series), None = one series."""
+    total = 0.0
+    for r in _group_runs(groups, e.size):
+        total += r.size * effective_sample_fraction(e[r]) if r.size >= 8 else 1.0
+    return total
+
+
+def heldout_f_test(e_before: np.ndarray, e_after: np.ndarray, k: int, groups: np.ndarray | None = None) -> float:
     """p-value of the held-out error drop: F = ((SSE_before - SSE_after) / k) / (SSE_after / n_eff) on (k, n_eff)
-    degrees of freedom, n_eff = n x :func:`effective_sample_fraction` of the after-residual (autocorrelation
-    shrinks the information a long log holds). Unlike the block t-test it keeps its power when the gain is
-    concentrated in a few moments (slips, reversals)."""
+    degrees of freedom, n_eff = :func:`effective_sample_size` of the after-residual, computed per contiguous
+    series (``groups``) and summed (autocorrelation shrinks the information a long log holds; estimating it on
+    series glued end to end would make the p-value depend on their order). Unlike the block t-test it keeps its
+    power when the gain is concentrated in a few moments (slips, reversals)."""
     sb, sa = float(e_before @ e_before), float(e_after @ e_after)
     n = e_after.size
     if n < 4 or sa <= 0:
         return 0.0 if sb > sa else 1.0
-    n_eff = max(2.0, n * effective_sample_fraction(e_after))
+    n_eff = max(2.0, effective_sample_size(e_after, groups))
     k = max(int(k), 1)
     f = ((sb - sa) / k) / (sa / n_eff)
     return float(stats.f.sf(f, k, n_eff)) if f > 0 else 1.0
@@ -574,6 +642,7 @@ class _Model:
     rmse_train: float
     rmse_hold: float
     e_hold: np.ndarray          # concatenated holdout residuals (for block tests)
+    g_hold: np.ndarray | None = None   # label per held-out row: one per contiguous series (for n_eff)
 
 
 class Calibrator:
@@ -584,8 +653,13 @@ class Calibrator:
     family : Family or str
     holdout_fraction : float   share of a single run held out as contiguous blocks when no holdout run is given.
     n_blocks : int             number of contiguous blocks the run is cut into for that split.
-    min_relative_drop : float  smallest relative drop of the held-out RMSE that counts (default 0.10).
-    alpha : float              significance level of the one-sided block-paired test (default 1e-3).
+    min_relative_drop : float  smallest relative drop of the held-out RMSE that counts (default: the family's,
+                               :attr:`Family.min_relative_drop`, 0.10 unless the family says otherwise).
+    alpha : float              significance level of the held-out F-test (default: the family's, 1e-3 unless
+                               the family says otherwise).
+    forced_effects : list[str] | None  no selection: fit exactly these effects, in this order (every one
+                               added whatever its gain), e.g. to predict another run with a model chosen
+                               elsewhere. The report is the same.
     max_effects : int          at most this many effects are added.
     whiteness_threshold : float structure share below which the residual counts as white (default 0.15; the
                                rigid joint model leaves ~0.06 on a clean synthetic bench log: microstep-scale dynamics).
@@ -610,14 +684,22 @@ class Calibrator:
     """
 
     def __init__(self, family: Family | str, *, holdout_fraction: float = 0.3, n_blocks: int = 10,
-                 min_relative_drop: float = 0.10, alpha: float = 1e-3, max_effects: int = 4,
+                 min_relative_drop: float | None = None, alpha: float | None = None, max_effects: int = 4,
                  whiteness_threshold: float = 0.15, max_search_samples: int = 60_000,
-                 candidates: Sequence[str] | None = None, n_test_blocks: int = 40, n_refine: int = 5):
+                 candidates: Sequence[str] | None = None, n_test_blocks: int = 40, n_refine: int = 5,
+                 forced_effects: Sequence[str] | None = None):
         self.family = get_family(family) if isinstance(family, str) else family
         self.holdout_fraction = holdout_fraction
         self.n_blocks = n_blocks
-        self.min_relative_drop = min_relative_drop
-        self.alpha = alpha
+        self.min_relative_drop = self.family.min_relative_drop if min_relative_drop is None else min_relative_drop
+        self.alpha = self.family.alpha if alpha is None else alpha
+        if not 0.0 < self.alpha < 1.0:
+            raise ValueError(f"alpha {self.alpha} must lie in (0, 1)")
+        if not 0.0 <= self.min_relative_drop < 1.0:
+            raise ValueError(f"min_relative_drop {self.min_relative_drop} must lie in [0, 1)")
+        self.forced_effects = None if forced_effects is None else tuple(forced_effects)
+        for name in self.forced_effects or ():
+            self.family.effect(name)        # KeyError for an unknown name
         self.max_effects = max_effects
         self.whiteness_threshold = whiteness_threshold
         self.max_search_samples = max_search_samples
@@ -676,13 +758,55 @@ class Calibrator:
                 _Part(holdout, np.zeros(holdout.n, bool), np.ones(holdout.n, bool))]
 
     # ------------------------------------------------------------------------------------ model evaluation
-    @staticmethod
-    def _design(ctx: Context, effects: list) -> np.ndarray:
-        cols = [ctx.base_columns.reshape(ctx.n, -1)]
+    def _shared(self, effects: list) -> dict:
+        """Current values of the family's shared nonlinear parameters (the last effect holding one wins; the
+        engine keeps the copies equal, see :meth:`_sync`)."""
+        sh = self.family.shared_params
+        return {k: v for _, nl in effects for k, v in nl.items() if k in sh}
+
+    def _sync(self, active: list, i: int) -> list:
+        """Copy effect ``i``'s shared parameter values into every other active effect that declares them."""
+        sh = self.family.shared_params
+        if not sh:
+            return active
+        src = {k: v for k, v in active[i][1].items() if k in sh}
+        return [(e, {**nl, **{k: v for k, v in src.items() if k in nl}}) for e, nl in active]
+
+    def _coupled(self, eff: Effect) -> bool:
+        """True when ``eff``'s nonlinear values change columns other than its own (base or other effects)."""
+        return any(p.name in self.family.shared_params for p in eff.nonlinear)
+
+    def _base_columns(self, ctx: Context, effects: list) -> np.ndarray:
+        fn = self.family.base_columns_fn
+        if fn is None:
+            return ctx.base_columns.reshape(ctx.n, -1)
+        return np.asarray(fn(ctx, self._shared(effects)), float).reshape(ctx.n, -1)
+
+    def _design(self, ctx: Context, effects: list) -> np.ndarray:
+        shared = self._shared(effects)
+        cols = [self._base_columns(ctx, effects)]
         for eff, nl in effects:
-            X = eff.columns(ctx, nl)
+            X = eff.columns(ctx, {**nl, **shared} if shared else nl)
             cols.append(np.asarray(X, float).reshape(ctx.n, -1))
         return np.hstack(cols) if cols else np.zeros((ctx.n, 0))
+
+    @staticmethod
+    def _hold_groups(parts: list) -> np.ndarray:
+        """A label per held-out row (in the order of ``_solve``'s ``e_ho``): new label at every part, series
+        change and gap in the held-out rows, so each label is one contiguous stretch of one series."""
+        out, offset = [], 0
+        for p in parts:
+            idx = np.flatnonzero(p.hold)
+            if idx.size == 0:
+                continue
+            new = np.r_[True, np.diff(idx) != 1]
+            if p.ctx.series is not None:
+                s = p.ctx.series[idx]
+                new |= np.r_[True, s[1:] != s[:-1]]
+            lab = np.cumsum(new) + offset
+            offset = int(lab[-1]) + 1
+            out.append(lab)
+        return np.concatenate(out) if out else np.zeros(0, int)
 
     def _solve(self, parts: list[_Part], effects: list, designs: list | None = None):
         """Least squares for all linear coefficients on the train rows; residuals everywhere."""
@@ -713,7 +837,7 @@ class Calibrator:
 
     def _evaluate(self, parts, effects) -> _Model:
         coef, _, e_tr, e_ho = self._solve(parts, effects)
-        return _Model(list(effects), coef, _rmse(e_tr), _rmse(e_ho), e_ho)
+        return _Model(list(effects), coef, _rmse(e_tr), _rmse(e_ho), e_ho, self._hold_groups(parts))
 
     # ----------------------------------------------------------------------------- nonlinear search
     def _fit_candidate(self, parts: list[_Part], active: list, eff: Effect, refine: bool = True
@@ -727,12 +851,31 @@ class Calibrator:
         profile = []
 
         cache = getattr(self, "_cache", None)
+        shared_now = self._shared(active)
+        coupled = self._coupled(eff)
+
+        def sse_coupled(nl):
+            # the candidate's values change the base (and other effects') columns: rebuild the whole design
+            X = np.vstack([self._design(p.ctx, active + [(eff, nl)])[p.train] for p in parts if p.train.any()])
+            if not np.all(np.isfinite(X)):
+                v = float("inf")
+            else:
+                sc = np.sqrt(np.maximum(np.sum(X * X, axis=0), 1e-300))
+                A = (X / sc).T @ (X / sc)
+                coef = np.linalg.lstsq(A + 1e-12 * np.eye(sc.size), (X / sc).T @ yt, rcond=None)[0]
+                r = yt - (X / sc) @ coef
+                v = float(r @ r)
+            profile.append((dict(nl), v))
+            return v
 
         def sse(nl, cacheable=False):
-            key = (eff.name, tuple(sorted(nl.items())))
+            if coupled:
+                return sse_coupled(nl)
+            cnl = {**nl, **shared_now}
+            key = (eff.name, tuple(sorted(cnl.items())))
             C = cache.get(key) if cache is not None else None
             if C is None:
-                C = np.vstack([np.asarray(eff.columns(p.ctx, nl), float).reshape(p.ctx.n, -1)[p.train]
+                C = np.vstack([np.asarray(eff.columns(p.ctx, cnl), float).reshape(p.ctx.n, -1)[p.train]
                                for p in parts if p.train.any()])
                 if cacheable and cache is not None and self._cache_bytes + C.nbytes < self.cache_limit_bytes:
                     cache[key] = C
@@ -804,7 +947,15 @@ class Calibrator:
         _, res, e_tr, _ = self._solve(parts, effects)
         n = e_tr.size
         k_lin = coef.size
-        nl_keys = [(i, p) for i, (eff, nl) in enumerate(effects) for p in eff.nonlinear]
+        # a shared parameter is one unknown: its column is taken once (at the first effect declaring it)
+        nl_keys, seen = [], set()
+        for i, (eff, nl) in enumerate(effects):
+            for p in eff.nonlinear:
+                if p.name in self.family.shared_params:
+                    if p.name in seen:
+                        continue
+                    seen.add(p.name)
+                nl_keys.append((i, p))
         infl = 1.0 / max(effective_sample_fraction(e_tr), 1e-3)
         sigma2 = float(e_tr @ e_tr) / max(n - k_lin - len(nl_keys), 1)
 
@@ -826,7 +977,7 @@ class Calibrator:
                 nl2 = dict(nl)
                 nl2[p.name] = x
                 e2[i] = (eff, nl2)
-                return e2
+                return self._sync(e2, i)
 
             # Jacobian of the model with the linear coefficients held at their values
             def fixed_pred(x):
@@ -865,12 +1016,19 @@ class Calibrator:
         lin_std = std_all[:k_lin]
         out = [dict() for _ in effects]
         j = k_lin
+        shared_std = {}
         for i, p in nl_keys:
             if (i, p.name) in nl_std_profile:
                 out[i][p.name] = nl_std_profile[(i, p.name)]
             else:
                 out[i][p.name] = float(std_all[j])
                 j += 1
+            if p.name in self.family.shared_params:
+                shared_std[p.name] = out[i][p.name]
+        for i, (eff, _) in enumerate(effects):
+            for p in eff.nonlinear:
+                if p.name not in out[i]:
+                    out[i][p.name] = shared_std.get(p.name, float("nan"))
         return lin_std, out
 
     # ---------------------------------------------------------------------------------------------- fit
@@ -913,7 +1071,17 @@ class Calibrator:
         removed: set[str] = set()
         current = self._evaluate(parts, active)
         self.steps_ = []
-        for _iteration in range(3 * len(cands) + 1):
+        for name in self.forced_effects or ():
+            eff = fam.effect(name)
+            nl, model, _ = self._fit_candidate(parts, active, eff, refine=True)
+            active = self._sync(active + [(eff, nl)], len(active))
+            if len(active) > 1:
+                active = self._polish(parts, active)
+            after = self._evaluate(parts, active)
+            self.steps_.append({"decision": f"add {name} (forced)", "rmse_holdout": current.rmse_hold,
+                                "rmse_holdout_after": after.rmse_hold})
+            current = after
+        for _iteration in range(0 if self.forced_effects is not None else 3 * len(cands) + 1):
             if len(active) >= self.max_effects:
                 break
             diag = self._diagnose_parts(parts, current)
@@ -950,10 +1118,14 @@ class Calibrator:
                                         f"[{p.lo:g}, {p.hi:g}]")
                 drop = 1.0 - model.rmse_hold / current.rmse_hold if current.rmse_hold > 0 else 0.0
                 k_eff = len(eff.linear) + len(eff.nonlinear)
-                pval = heldout_f_test(current.e_hold, model.e_hold, k_eff)
-                p_block = block_test(current.e_hold, model.e_hold, self.n_test_blocks)
-                ev = float(np.mean([eff.evidence(r, p.ctx, nl, p.train) for p, r in zip(parts, res_now)
-                                    if p.train.any()]))
+                pval = heldout_f_test(current.e_hold, model.e_hold, k_eff, model.g_hold)
+                p_block = block_test(current.e_hold, model.e_hold, self.n_test_blocks, model.g_hold)
+                if eff.linear:
+                    sh = self._shared(active)
+                    ev = float(np.mean([eff.evidence(r, p.ctx, {**nl, **sh}, p.train) for p, r in zip(parts, res_now)
+                                        if p.train.any()]))
+                else:   # only reshapes the existing terms: its score is the share of the training error it removes
+                    ev = float(max(0.0, 1.0 - (model.rmse_train / current.rmse_train) ** 2)) if current.rmse_train > 0 else 0.0
                 ok = drop > self.min_relative_drop and pval < self.alpha and not problems
                 if rank >= self.n_refine and eff.nonlinear:
                     ok = False      # not among the best on the grid: not refined, cannot win
@@ -973,11 +1145,12 @@ class Calibrator:
             for tr in trials:
                 if tr[0] is best[0] or not tr[8]:
                     continue
-                p_rival = block_test(tr[2].e_hold, best[2].e_hold, self.n_test_blocks)
+                p_rival = block_test(tr[2].e_hold, best[2].e_hold, self.n_test_blocks, best[2].g_hold)
                 if p_rival > 0.05 or tr[2].rmse_hold <= best[2].rmse_hold * 1.01:
                     rivals.append(tr[0].name)
             eff, nl = best[0], best[1]
             active.append((eff, nl))
+            active = self._sync(active, len(active) - 1)
             step["decision"] = f"add {eff.name}"
             step["indistinguishable_from"] = rivals
             self.steps_.append(step)
@@ -1014,7 +1187,8 @@ class Calibrator:
             for i, (eff, nl) in enumerate(active[:-1]):
                 without = self._evaluate(parts, active[:i] + active[i + 1:])
                 drop = 1.0 - current.rmse_hold / without.rmse_hold if without.rmse_hold > 0 else 0.0
-                pval = heldout_f_test(without.e_hold, current.e_hold, len(eff.linear) + len(eff.nonlinear))
+                pval = heldout_f_test(without.e_hold, current.e_hold, len(eff.linear) + len(eff.nonlinear),
+                                       current.g_hold)
                 lin = dict(zip([p.name for p in eff.linear], current.coef[offsets[i]:offsets[i + 1]]))
                 problems = eff.plausible({**lin, **nl}, parts[0].ctx)
                 if drop < self.min_relative_drop or pval >= self.alpha or problems:
@@ -1036,16 +1210,24 @@ class Calibrator:
         """After a selection on every k-th row: refine each effect's nonlinear parameters on all rows (bounded
         search around the selection's value, the other effects fixed), so no reported value carries the
         decimation's interpolation error."""
-        for i, (eff, nl) in enumerate(list(active)):
+        active = list(active)
+        for i in range(len(active)):
+            eff, nl = active[i]
             if not eff.nonlinear or not all(p.refine for p in eff.nonlinear):
                 continue
             others = active[:i] + active[i + 1:]
-            fixed = [self._design(p.ctx, others) for p in parts]
+            coupled = self._coupled(eff)
+            fixed = None if coupled else [self._design(p.ctx, others) for p in parts]
+            shared = self._shared(others)
 
-            def sse(nl_try, eff=eff, fixed=fixed):
-                designs = [np.hstack([F[:, :0] if F.size == 0 else F,
-                                      np.asarray(eff.columns(p.ctx, nl_try), float).reshape(p.ctx.n, -1)])
-                           for p, F in zip(parts, fixed)]
+            def sse(nl_try, eff=eff, fixed=fixed, others=others, shared=shared):
+                if fixed is None:      # its values shape the base / other columns: full design
+                    designs = None
+                else:
+                    designs = [np.hstack([F[:, :0] if F.size == 0 else F,
+                                          np.asarray(eff.columns(p.ctx, {**nl_try, **shared}), float
+                                                     ).reshape(p.ctx.n, -1)])
+                               for p, F in zip(parts, fixed)]
                 _, _, e_tr, _ = self._solve(parts, others + [(eff, nl_try)], designs)
                 return float(e_tr @ e_tr)
             # bracket: the grid cell around the value, then a narrower search
@@ -1058,10 +1240,13 @@ class Calibrator:
                     w = 0.05 * (p.hi - p.lo)
                     grids.append(np.array([max(p.lo, v - w), v, min(p.hi, v + w)]))
             active[i] = (eff, self._refine(eff, nl, grids, sse, xatol=xatol, maxiter=maxiter))
+            active = self._sync(active, i)
         return active
 
     def _polish(self, parts, active):
-        for i, (eff, nl) in enumerate(list(active)):
+        active = list(active)
+        for i in range(len(active)):
+            eff, nl = active[i]
             if not eff.nonlinear:
                 continue
             others = active[:i] + active[i + 1:]
@@ -1071,6 +1256,7 @@ class Calibrator:
                 return float(e_tr @ e_tr)
             grids = [np.asarray(eff.grid(p, parts[0].ctx), float) for p in eff.nonlinear]
             active[i] = (eff, self._refine(eff, nl, grids, sse))
+            active = self._sync(active, i)
         return active
 
     def _diagnose_parts(self, parts, model_or_effects) -> Diagnosis:
@@ -1082,7 +1268,7 @@ class Calibrator:
         if len(parts) == 1:
             ctx, r, tr, ho = parts[0].ctx, res[0], parts[0].train, parts[0].hold
         else:
-            ctx = _concat_contexts([p.ctx for p in parts])
+            ctx = concat_contexts([p.ctx for p in parts])
             r = np.concatenate(res)
             tr = np.concatenate([p.train for p in parts])
             ho = np.concatenate([p.hold for p in parts])
@@ -1113,13 +1299,15 @@ class Calibrator:
                               rmse_holdout_after=model.rmse_hold, rmse_train_after=model.rmse_train,
                               evidence=dict(meta["evidence"]), indistinguishable_from=list(meta["indistinguishable_from"]))
             fe.evidence["relative_drop_full"] = 1.0 - model.rmse_hold / prev.rmse_hold if prev.rmse_hold > 0 else 0.0
-            fe.evidence["p_value_full"] = heldout_f_test(prev.e_hold, model.e_hold, len(eff.linear) + len(eff.nonlinear))
-            fe.evidence["p_value_blocks_full"] = block_test(prev.e_hold, model.e_hold, self.n_test_blocks)
+            fe.evidence["p_value_full"] = heldout_f_test(prev.e_hold, model.e_hold, len(eff.linear) + len(eff.nonlinear),
+                                                          model.g_hold)
+            fe.evidence["p_value_blocks_full"] = block_test(prev.e_hold, model.e_hold, self.n_test_blocks, model.g_hold)
             self.added_effects_.append(fe)
             prev = model
         final = prev
         lin_std, nl_std = (self._uncertainties(parts, active, final.coef) if final.coef.size or active
                            else (np.zeros(0), []))
+        umap = parts[0].ctx.meta.get("unit_map", {})
         k = len(fam.base_coef_names) if fam.base_coef_names else parts[0].ctx.base_columns.reshape(parts[0].ctx.n, -1).shape[1]
         self.baseline_["coef_final"] = {n: {"value": float(final.coef[i]), "std": float(lin_std[i])}
                                         for i, n in enumerate(fam.base_coef_names)}
@@ -1128,15 +1316,16 @@ class Calibrator:
             for p in eff.linear:
                 fe.values[p.name] = float(final.coef[k])
                 fe.stds[p.name] = float(lin_std[k])
-                fe.units[p.name] = p.unit
+                fe.units[p.name] = umap.get(p.unit, p.unit)
                 k += 1
             for p in eff.nonlinear:
                 fe.values[p.name] = float(nl[p.name])
                 fe.stds[p.name] = float(nl_std[j][p.name])
-                fe.units[p.name] = p.unit
-            fe.physical = eff.physical(fe.values, fe.stds, parts[0].ctx)
+                fe.units[p.name] = umap.get(p.unit, p.unit)
+            fe.physical = {kk: (v[0], v[1], umap.get(v[2], v[2]))
+                           for kk, v in eff.physical(fe.values, fe.stds, parts[0].ctx).items()}
             problems = eff.plausible(fe.values, parts[0].ctx)
-            low = (fe.indistinguishable_from or problems or fe.evidence.get("relative_drop_full", 0) < 0.10
+            low = (fe.indistinguishable_from or problems or fe.evidence.get("relative_drop_full", 0) < self.min_relative_drop
                    or fe.evidence.get("p_value_full", 1) > self.alpha)
             fe.confidence = "low" if low else "high"
             if problems:
@@ -1148,6 +1337,7 @@ class Calibrator:
                        "residual_white": self.diagnosis_after_.white}
         self.unexplained_structure_ = not self.diagnosis_after_.white
         self._parts_full = parts
+        self.target_unit_ = str(parts[0].ctx.meta.get("target_unit", fam.target_unit))
 
     # ------------------------------------------------------------------------------------------ use
     def _hint(self) -> dict | None:
@@ -1182,9 +1372,24 @@ class Calibrator:
     def residual(self, ctx: Context, n_effects: int | None = None) -> np.ndarray:
         return ctx.y - self.predict(ctx, n_effects)
 
+    def report_units(self) -> dict:
+        """Unit of every quantity reported: the family's, overridden by the record's (``Context.meta["units"]``,
+        e.g. a rotary drive log in rad and N m)."""
+        return {"target": self.target_unit_, "rmse": self.target_unit_, "time": "s", **self.family.units,
+                **self._parts_full[0].ctx.meta.get("units", {})}
+
     def report_dict(self) -> dict:
         """The content of ``fit_report.json`` (see :mod:`calibration.report`)."""
         fam = self.family
+        rename = self._parts_full[0].ctx.meta.get("param_names", {})
+        effects = [fe.to_dict() for fe in self.added_effects_]
+        baseline = dict(self.baseline_)
+        if rename:      # names carry units: a record in other units (a rotary drive) renames them
+            for e in effects:
+                e["params"] = {rename.get(k, k): v for k, v in e["params"].items()}
+                e["physical"] = {rename.get(k, k): v for k, v in e["physical"].items()}
+            for key in ("coef", "coef_final"):
+                baseline[key] = {rename.get(k, k): v for k, v in baseline[key].items()}
         return {
             "family": fam.name,
             "description": fam.description,
@@ -1192,14 +1397,15 @@ class Calibrator:
             "n_train": self.n_train_,
             "n_holdout": self.n_holdout_,
             "holdout": getattr(self, "holdout_description_", ""),
-            "baseline": self.baseline_,
-            "added_effects": [fe.to_dict() for fe in self.added_effects_],
+            "baseline": baseline,
+            "added_effects": effects,
             "final": {**self.final_, "diagnosis": self.diagnosis_after_.to_dict()},
             "baseline_diagnosis": self.diagnosis_before_.to_dict(),
             "unexplained_structure": bool(self.unexplained_structure_),
-            "units": {"target": fam.target_unit, "rmse": fam.target_unit, "time": "s", **fam.units},
+            "units": self.report_units(),
             "criterion": {"min_relative_drop": self.min_relative_drop, "alpha": self.alpha,
-                          "test": "F-test of the held-out SSE drop on (k, n_eff) dof, n_eff from the residual autocorrelation",
+                          "test": "F-test of the held-out SSE drop on (k, n_eff) dof, n_eff summed over the held-out "
+                                  "series from each one's own residual autocorrelation",
                           "n_test_blocks": self.n_test_blocks, "whiteness_threshold": self.whiteness_threshold,
                           "max_effects": self.max_effects},
             "equivalent_effects": [sorted(g) for g in fam.equivalent_effects],
@@ -1219,7 +1425,7 @@ def _single_thread_blas():
     return threadpool_limits(limits=1, user_api="blas")
 
 
-def _concat_contexts(ctxs: list[Context]) -> Context:
+def concat_contexts(ctxs: list[Context]) -> Context:
     """Stack records into one context for diagnostics; each record becomes its own series."""
     series = []
     offset = 0
@@ -1253,5 +1459,6 @@ def _jsonable(x):
 
 
 __all__ = ["Param", "Context", "Effect", "Family", "FittedEffect", "Calibrator", "Diagnosis", "diagnose",
-           "acf", "ljung_box", "block_test", "heldout_f_test", "effective_sample_fraction", "get_family", "available_families",
+           "acf", "ljung_box", "block_test", "heldout_f_test", "effective_sample_fraction", "effective_sample_size",
+           "concat_contexts", "get_family", "available_families",
            "FAMILY_MODULES"]

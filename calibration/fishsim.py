@@ -363,6 +363,13 @@ def load_all(project_root=None) -> list[MarkerData]:
     files = sorted(folder.glob("markers_f*.csv"), key=drive_frequency_from_name)
     if not files:
         raise UserError(f"{folder}: no markers_f*.csv files")
+    return load_marker_files(files)
+
+
+def load_marker_files(files) -> list[MarkerData]:
+    """Several marker files of one body, in the given order, with the nominal marker positions pooled as in
+    :func:`load_all` (files whose markers overlap too often borrow them from the others)."""
+    files = list(files)
     first = [load_markers(p) for p in files]
     ratios = [np.array(d.cleaning["nominal_from_marker2_m"]) / d.cleaning["nominal_from_marker2_m"][8]
               for d in first if d.cleaning["nominal_source"].startswith("this file (")]

@@ -38,6 +38,16 @@ def _holdout_view(cal: Calibrator) -> tuple[Context, np.ndarray]:
     return p.ctx, np.ones(p.ctx.n, bool)
 
 
+def _shown_rows(cal: Calibrator, ctx: Context, hold: np.ndarray) -> np.ndarray:
+    """Held-out rows of the series the family wants shown (:attr:`Family.plot_rows_fn`, e.g. the body's tail
+    tip); all held-out rows when the family does not choose or its series has none held out."""
+    fn = cal.family.plot_rows_fn
+    if fn is None:
+        return hold
+    mine = hold & np.asarray(fn(ctx), bool)
+    return mine if mine.any() else hold
+
+
 def _first_block(mask: np.ndarray, max_len: int) -> np.ndarray:
     idx = np.flatnonzero(mask)
     if idx.size == 0:
@@ -51,8 +61,9 @@ def plot_measured_vs_model(cal: Calibrator, path: Path, window_s: float = 3.0) -
     plt = _plt()
     ctx, hold = _holdout_view(cal)
     dt = float(np.median(np.diff(ctx.t)))
-    rows = _first_block(hold, int(window_s / dt))
+    rows = _first_block(_shown_rows(cal, ctx, hold), int(window_s / dt))
     fam = cal.family
+    unit = cal.target_unit_
     base = cal.predict(ctx, 0)
     final = cal.predict(ctx)
     fig, ax = plt.subplots(2, 1, figsize=(9, 6), sharex=True, layout="constrained")
@@ -60,13 +71,16 @@ def plot_measured_vs_model(cal: Calibrator, path: Path, window_s: float = 3.0) -
     ax[0].plot(t, ctx.y[rows], ".", ms=2, color="0.4", label="measured")
     ax[0].plot(t, base[rows], "-", lw=1, color="tab:red", label="base model")
     ax[0].plot(t, final[rows], "-", lw=1, color="tab:blue", label="final model")
-    ax[0].set_ylabel(f"{fam.target} [{fam.target_unit}]")
+    shown = ""
+    if fam.plot_rows_fn is not None and ctx.series is not None and rows.size:
+        shown = f", series {int(ctx.series[rows[0]])}"
+    ax[0].set_ylabel(f"{fam.target} [{unit}]")
     ax[0].legend(loc="upper right", fontsize=8)
-    ax[0].set_title(f"{fam.name}: held-out data ({ctx.source})", fontsize=9)
+    ax[0].set_title(f"{fam.name}: held-out data ({ctx.source}{shown})", fontsize=9)
     ax[1].plot(t, (ctx.y - base)[rows], lw=0.8, color="tab:red", label=f"residual, base (RMSE {cal.baseline_['rmse_holdout']:.3g})")
     ax[1].plot(t, (ctx.y - final)[rows], lw=0.8, color="tab:blue", label=f"residual, final (RMSE {cal.final_['rmse_holdout']:.3g})")
     ax[1].set_xlabel("time [s]")
-    ax[1].set_ylabel(f"residual [{fam.target_unit}]")
+    ax[1].set_ylabel(f"residual [{unit}]")
     ax[1].legend(loc="upper right", fontsize=8)
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -77,8 +91,8 @@ def plot_fingerprint(cal: Calibrator, j: int, path: Path, max_points: int = 2000
     plt = _plt()
     ctx, hold = _holdout_view(cal)
     eff, nl = cal.effects_[j]
-    axis = eff.fingerprint_axis if eff.fingerprint_axis in ctx.signals else "velocity"
-    x = ctx.signals[axis]
+    axis = eff.fingerprint_axis if eff.fingerprint_axis in ctx.signals or eff.fingerprint_axis == "time" else "velocity"
+    x = ctx.t if axis == "time" and "time" not in ctx.signals else ctx.signals[axis]
     r_before = cal.residual(ctx, j)
     contrib = cal.predict(ctx, j + 1) - cal.predict(ctx, j)
     rows = np.flatnonzero(hold) if hold.any() else np.arange(ctx.n)
@@ -98,9 +112,9 @@ def plot_fingerprint(cal: Calibrator, j: int, path: Path, max_points: int = 2000
                 label="binned mean of residual")
         ax.plot(mid, np.bincount(b, cs, minlength=edges.size - 1) / cnt, "s--", ms=3, color="tab:orange", lw=1,
                 label=f"fitted {eff.name} (binned)")
-    units = cal.family.units
+    units = cal.report_units()
     ax.set_xlabel(f"{axis} [{units.get(axis, units.get('time', 's') if axis == 'time' else '')}]")
-    ax.set_ylabel(f"residual [{cal.family.target_unit}]")
+    ax.set_ylabel(f"residual [{cal.target_unit_}]")
     ax.set_title(f"{eff.name}: {eff.fingerprint}", fontsize=8, wrap=True)
     ax.legend(fontsize=7, loc="best")
     fig.savefig(path, dpi=110)
@@ -111,8 +125,8 @@ def plot_spectrum(cal: Calibrator, path: Path) -> None:
     from scipy import signal
     plt = _plt()
     ctx, hold = _holdout_view(cal)
-    rows = _first_block(hold, ctx.n)
-    dt = float(np.median(np.diff(ctx.t)))
+    rows = _first_block(_shown_rows(cal, ctx, hold), ctx.n)
+    dt = float(np.median(np.diff(ctx.t[rows]))) if rows.size > 1 else float(np.median(np.diff(ctx.t)))
     fig, ax = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
     for k, (lab, col) in enumerate((("base model", "tab:red"), ("final model", "tab:blue"))):
         r = cal.residual(ctx, 0 if k == 0 else None)[rows]
@@ -124,7 +138,7 @@ def plot_spectrum(cal: Calibrator, path: Path) -> None:
         a = acf(r, min(200, r.size // 3))
         ax[1].plot(np.arange(a.size) * dt, a, color=col, lw=1, label=lab)
     ax[0].set_xlabel("frequency [Hz]")
-    ax[0].set_ylabel(f"PSD [{cal.family.target_unit}^2/Hz]")
+    ax[0].set_ylabel(f"PSD [{cal.target_unit_}^2/Hz]")
     ax[0].legend(fontsize=8)
     n = rows.size
     ax[1].axhline(2.58 / math.sqrt(max(n, 1)), color="0.5", ls=":", lw=0.8)

@@ -9,8 +9,9 @@ import pytest
 from scipy import signal
 
 from calibration import effects as op
-from calibration.engine import (Calibrator, Context, Effect, Family, Param, acf, effective_sample_fraction,
-                                get_family, heldout_f_test, ljung_box)
+from calibration.engine import (Calibrator, Context, Effect, Family, Param, acf, block_test,
+                                effective_sample_fraction, effective_sample_size, get_family, heldout_f_test,
+                                ljung_box)
 
 # ------------------------------------------------------------------------------------------------ toy family
 # y = a x + effects + white noise; the base model has one fitted coefficient a (like a drive's mass).
@@ -208,3 +209,50 @@ def test_heldout_f_test():
     assert heldout_f_test(e, e, 1) == 1.0
     assert heldout_f_test(1.2 * e, e, 1) < 1e-12
     assert heldout_f_test(1.0005 * e, e, 1) > 0.01
+
+
+def test_heldout_f_test_per_series_is_order_free():
+    """n_eff is summed over series, each from its own autocorrelation: the closed form for AR(1),
+    n (1 - rho) / (1 + rho), for the correlated series, n for the white ones; stacking order changes nothing."""
+    rng = np.random.default_rng(0)
+    n, rho = 600, 0.95
+    white1, white2 = rng.normal(size=n), rng.normal(size=n)
+    ar = signal.lfilter([1.0], [1.0, -rho], rng.normal(size=n))
+    ar /= ar.std()
+    groups = np.repeat([0, 1, 2], n)
+    fwd, rev = np.r_[white1, ar, white2], np.r_[white2, ar, white1]
+    expected = 2 * n + n * (1 - rho) / (1 + rho)
+    assert effective_sample_size(fwd, groups) == pytest.approx(expected, rel=0.05)
+    assert effective_sample_size(fwd, groups) == pytest.approx(effective_sample_size(rev, groups), rel=1e-12)
+    p_f = heldout_f_test(1.05 * fwd, fwd, 1, groups)
+    p_r = heldout_f_test(1.05 * rev, rev, 1, groups)
+    assert p_f == pytest.approx(p_r, rel=1e-9)
+    assert block_test(1.05 * fwd, fwd, 40, groups) == pytest.approx(block_test(1.05 * rev, rev, 40, groups), rel=1e-9)
+    # the F statistic by hand: ((1.05^2 - 1) SSE / 1) / (SSE / n_eff) on (1, n_eff)
+    from scipy import stats
+    ne = effective_sample_size(fwd, groups)
+    assert p_f == pytest.approx(stats.f.sf((1.05**2 - 1) * ne, 1, ne), rel=1e-9)
+
+
+def test_criterion_is_the_familys_unless_overridden():
+    strict = Family(name="toy2", description="toy", columns=(), target="y", target_unit="-", base_terms=("a x",),
+                    effects=toy_effects(), load=lambda *a, **k: None, base_coef_names=("a",),
+                    alpha=0.2, min_relative_drop=0.5)
+    assert (Calibrator(strict).alpha, Calibrator(strict).min_relative_drop) == (0.2, 0.5)
+    assert (Calibrator(TOY).alpha, Calibrator(TOY).min_relative_drop) == (1e-3, 0.10)
+    assert Calibrator(strict, alpha=0.01, min_relative_drop=0.0).alpha == 0.01
+    # a 50 % margin refuses a cubic term that lowers the held-out error by 24 %; the default 10 % takes it
+    ctx = toy_context(4, cubic=0.05, noise=0.02)
+    assert names(Calibrator(TOY).fit(ctx)) == ["cubic"]
+    assert names(Calibrator(strict).fit(ctx)) == []
+    with pytest.raises(ValueError, match="alpha"):
+        Calibrator(TOY, alpha=1.0)
+    with pytest.raises(ValueError, match="min_relative_drop"):
+        Calibrator(TOY, min_relative_drop=-0.1)
+
+
+def test_forced_effects_skip_selection():
+    cal = Calibrator(TOY, forced_effects=("offset",)).fit(toy_context(5, lag=0.05))
+    assert names(cal) == ["offset"]                    # fitted although useless; the lag is not looked for
+    with pytest.raises(KeyError):
+        Calibrator(TOY, forced_effects=("nonsense",))

@@ -6,7 +6,7 @@ import json
 import pytest
 
 from swiftfin.cli import main
-from tests.conftest import DEFAULT_DESIGN
+from tests.conftest import DEFAULT_DESIGN, require_shared
 
 D = ["--design", str(DEFAULT_DESIGN)]
 
@@ -93,3 +93,111 @@ def test_joint_option_checked(tmp_path, capsys):
     synth(tmp_path / "e.csv", seed=6, duration=5)
     code = main(["fit", "joint", str(tmp_path / "e.csv"), "--joint", "9", *D])
     assert code == 2 and "--joint 9" in capsys.readouterr().err
+
+
+# ------------------------------------------------------------------------------ body family from the CLI
+
+FISH = ("data", "fishsim")
+
+
+def test_body_within_file_from_cli(tmp_path, capsys):
+    """`swiftfin fit body markers_f1_75.csv` goes through the engine with the body family's own criterion and
+    reports what the family finds: held-out RMSE 53.0 mm (paper wave) -> 8.5 mm; the tail beats at 0.75 x the
+    drive frequency; the time plot shows the tail tip (marker 8), not the motionless marker 2."""
+    path = require_shared(*FISH, "markers_f1_75.csv")
+    assert main(["fit", "body", str(path), "--out", str(tmp_path / "o")]) == 0
+    rep = json.loads((tmp_path / "o" / "fit_report.json").read_text())
+    names = [e["name"] for e in rep["added_effects"]]
+    assert names[0] == "tail_beat_frequency" and {"lateral_offset", "head_yaw"} <= set(names)
+    assert rep["added_effects"][0]["params"]["ratio"]["value"] == pytest.approx(0.75, abs=0.01)
+    assert rep["baseline"]["rmse_holdout"] == pytest.approx(0.0530, abs=0.002)
+    assert rep["final"]["rmse_holdout"] == pytest.approx(0.0085, abs=0.001)
+    assert rep["criterion"]["alpha"] == 0.01 and rep["criterion"]["min_relative_drop"] == 0.03
+    assert rep["units"]["target"] == "m"
+    assert "markers_f1_75.csv" in capsys.readouterr().err        # the cleaning report, as a warning
+
+
+def test_body_plot_shows_the_tail_tip():
+    from calibration.body import FAMILY, load
+    from calibration.engine import Calibrator
+    from calibration.report import _holdout_view, _shown_rows
+    cal = Calibrator(FAMILY, max_effects=1).fit(load(require_shared(*FISH, "markers_f2_25.csv")))
+    ctx, hold = _holdout_view(cal)
+    rows = _shown_rows(cal, ctx, hold)
+    assert rows.any() and set(ctx.signals["marker"][rows]) == {8.0}
+
+
+def test_body_across_files_from_cli(tmp_path):
+    """DATA a folder, --holdout one of its files: fit on the five other drive frequencies, predict 2.25 Hz.
+    Measured: paper wave 42.3 mm -> 16.0 mm on the held-out video; the beat ratio is found first."""
+    folder = require_shared(*FISH, "markers_f2_25.csv").parent
+    code = main(["fit", "body", str(folder), "--holdout", str(folder / "markers_f2_25.csv"),
+                 "--out", str(tmp_path / "o"), "--no-plots"])
+    assert code == 0
+    rep = json.loads((tmp_path / "o" / "fit_report.json").read_text())
+    assert "separate run" in rep["holdout"] and "markers_f2_25" in rep["holdout"]
+    assert "markers_f2_25" not in rep["data"] and rep["data"].count("markers_f") == 5
+    assert rep["added_effects"][0]["name"] == "tail_beat_frequency"
+    assert rep["baseline"]["rmse_holdout"] == pytest.approx(0.0423, abs=0.002)
+    assert rep["final"]["rmse_holdout"] == pytest.approx(0.0160, abs=0.0015)
+
+
+# ------------------------------------------------------------------------------ drive units follow the columns
+
+def test_rotary_drive_units_follow_the_columns(tmp_path):
+    from tests.test_calib_drive import _force, _trajectory, _write
+    t, q, v, a = _trajectory(seconds=20.0)
+    path = _write(tmp_path / "r.csv", t, q, _force(t, q, v, a, effects=("viscous", "coulomb")), rotary=True)
+    assert main(["fit", "drive", str(path), "--out", str(tmp_path / "o"), "--no-plots"]) == 0
+    rep = json.loads((tmp_path / "o" / "fit_report.json").read_text())
+    assert rep["units"]["target"] == "N m" and rep["units"]["position"] == "rad"
+    assert rep["units"]["velocity"] == "rad/s"
+    assert "inertia_kg_m2" in rep["baseline"]["coef_final"]
+    params = {k: p for e in rep["added_effects"] for k, p in e["params"].items()}
+    assert params["Fv_nm_s_rad"]["unit"] == "N m s/rad" and params["Fc_nm"]["unit"] == "N m"
+    assert params["Fv_nm_s_rad"]["value"] == pytest.approx(150.0, rel=0.05)
+    assert "N s/m" not in json.dumps(rep["added_effects"])
+
+
+# ------------------------------------------------------------------------------ bad input: one message, exit 2
+
+@pytest.fixture(scope="module")
+def short_log(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("bad")
+    synth(tmp / "a.csv", seed=7, duration=5)
+    synth(tmp / "b.csv", seed=8, duration=5)
+    (tmp / "empty").mkdir()
+    return tmp
+
+
+BAD = [
+    (["fit", "wing", "{a}"], "unknown family 'wing'"),
+    (["fit", "joint", "{tmp}/nope.csv"], "nope.csv"),
+    (["fit", "joint", "{a}", "{b}"], "reads one log per run"),
+    (["fit", "joint", "{tmp}/empty"], "reads one log per run"),
+    (["fit", "body", "{tmp}/empty"], "folder holds no CSV file"),
+    (["fit", "joint", "{a}", "--holdout", "2"], "strictly between 0 and 1"),
+    (["fit", "joint", "{a}", "--holdout", "{tmp}/missing.csv"], "missing.csv: file not found"),
+    (["fit", "joint", "{a}", "--holdout", "{a}"], "also given as DATA"),
+    (["fit", "body", "{a}", "--holdout", "0.3", "{b}"], "either one fraction or held-out files"),
+    (["fit", "joint", "{a}", "--alpha", "0"], "--alpha 0: a significance level"),
+    (["fit", "joint", "{a}", "--alpha", "1.5"], "--alpha 1.5"),
+    (["fit", "joint", "{a}", "--min-drop", "1"], "--min-drop 1: a relative drop"),
+    (["fit", "joint", "{a}", "--min-drop", "-0.1"], "--min-drop -0.1"),
+    (["fit", "joint", "{a}", "--max-effects", "-1"], "--max-effects -1"),
+    (["fit", "drive", "{a}", "--joint", "1"], "--joint applies to the joint family only"),
+    (["fit", "joint", "{a}", "--joint", "9"], "--joint 9"),
+    (["fit", "drive", "{a}"], "position"),                   # a joint log is not a drive log: column named
+]
+
+
+@pytest.mark.parametrize("argv,message", BAD, ids=[" ".join(a[1:]) for a, _ in BAD])
+def test_bad_input_one_message_exit_2(short_log, tmp_path, capsys, argv, message):
+    args = [x.format(a=short_log / "a.csv", b=short_log / "b.csv", tmp=short_log) for x in argv]
+    code = main(args + ["--out", str(tmp_path / "o"), *D])
+    cap = capsys.readouterr()
+    assert code == 2, cap
+    err = [ln for ln in cap.err.splitlines() if ln.strip()]
+    assert len(err) == 1 and err[0].startswith("swiftfin fit: error:"), cap.err
+    assert message in err[0], err[0]
+    assert "Traceback" not in cap.err and not (tmp_path / "o" / "fit_report.json").exists()

@@ -3,7 +3,18 @@
 Writes ``DIR/fit_report.json``, ``DIR/fit_report.md`` and PNG plots (see :mod:`calibration.report`).
 Bad data (missing columns, broken time stamps, long NaN gaps, degrees in a ``_rad`` column, a log too short or
 too poorly excited) exits 2 with a message naming the file, the column and the row; short NaN gaps are filled
-and reported as warnings.
+and reported as warnings. Bad options (unknown family, several files for a one-file family, a fraction outside
+(0, 1), an empty folder, a held-out file that is also training data, ...) exit 2 with one message.
+
+Held-out data (``--holdout``): a fraction of the run held out as contiguous time blocks (default 0.3), or one
+separate run. Families that read several files (``body``: one video per drive frequency) take several files or
+a folder as DATA and one or more held-out files: ``swiftfin fit body fishsim/ --holdout
+fishsim/markers_f2_25.csv`` fits on the other five videos and predicts the held-out drive frequency.
+
+Selection criterion (``--alpha``, ``--min-drop``): an effect is added when it lowers the held-out RMSE by more
+than the relative margin ``--min-drop`` and the drop is significant at ``--alpha`` (held-out F-test with the
+residual's effective sample size). Defaults are the family's (joint and drive: 1e-3 and 0.10; body: 0.01 and
+0.03, because a short video holds only a few dozen effective samples; see :mod:`calibration.body`).
 """
 from __future__ import annotations
 
@@ -19,15 +30,24 @@ def register(sub) -> None:
     from calibration.engine import FAMILY_MODULES
     ap = sub.add_parser("fit", help="fit a model family to measured data and name the effects it lacks")
     ap.add_argument("family", help=f"model family: {', '.join(FAMILY_MODULES)}")
-    ap.add_argument("data", help="measured log (CSV for joint and drive; see the family's docs)")
+    ap.add_argument("data", nargs="+",
+                    help="measured log (CSV for joint and drive; marker CSV for body). The body family also takes "
+                         "several files or a folder (every markers_*.csv in it)")
     ap.add_argument("--design", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
-    ap.add_argument("--holdout", default=None,
-                    help="held-out data: a second log (a separate run) or a fraction in (0, 1) of the run held out "
-                         "as contiguous time blocks (default 0.3)")
+    ap.add_argument("--holdout", default=None, nargs="+",
+                    help="held-out data: a fraction in (0, 1) of the run held out as contiguous time blocks "
+                         "(default 0.3), or a separate run (a second log; for body one or more marker files, "
+                         "left out of a DATA folder)")
     ap.add_argument("--out", default="fit_out", help="output directory (default: fit_out)")
     ap.add_argument("--joint", type=int, default=None,
                     help="joint family: which tail joint the log is from, 1-based (default: the last, caudal one)")
     ap.add_argument("--max-effects", type=int, default=4, help="at most this many effects are added (default 4)")
+    ap.add_argument("--alpha", type=float, default=None,
+                    help="significance level an effect's held-out error drop must reach, in (0, 1) "
+                         "(default: the family's; joint, drive 1e-3; body 0.01)")
+    ap.add_argument("--min-drop", type=float, default=None,
+                    help="smallest relative drop of the held-out RMSE that counts, in [0, 1) "
+                         "(default: the family's; joint, drive 0.10; body 0.03)")
     ap.add_argument("--no-plots", action="store_true", help="write the JSON and markdown only")
     ap.set_defaults(func=run)
 
@@ -42,9 +62,59 @@ def _load(fam, path: str, design, args, notes: list) -> object:
     return fam.load(path, design, **kw)
 
 
-def run(args) -> int:
-    from calibration.engine import Calibrator, get_family
+def _expand(paths: list[str], what: str) -> list[Path]:
+    """Files named, folders replaced by their CSV files (sorted). Missing paths and empty folders: UserError."""
+    out: list[Path] = []
+    for p in map(Path, paths):
+        if p.is_dir():
+            files = sorted(p.glob("markers_*.csv")) or sorted(p.glob("*.csv"))
+            if not files:
+                raise UserError(f"{what} {p}: folder holds no CSV file")
+            out += files
+        elif not p.exists():
+            raise UserError(f"{what} {p}: file not found (no such file or folder)")
+        else:
+            out.append(p)
+    return out
+
+
+def _data_sets(fam, args) -> tuple[list[Path], list[Path], float | None]:
+    """(training files, held-out files, held-out fraction) from DATA and --holdout, checked."""
     from calibration.io import split_holdout_arg
+    hold_args = args.holdout or []
+    fraction = 0.3
+    hold_files: list[Path] = []
+    if len(hold_args) == 1:
+        f, fraction = split_holdout_arg(hold_args[0])
+        hold_files = _expand([f], "--holdout") if f else []
+    elif hold_args:
+        for h in hold_args:
+            try:
+                float(h)
+            except ValueError:
+                continue
+            raise UserError(f"--holdout {' '.join(hold_args)}: give either one fraction or held-out files, not both")
+        hold_files = _expand(hold_args, "--holdout")
+    several = len(args.data) > 1 or any(Path(d).is_dir() for d in args.data) or len(hold_files) > 1
+    if several and fam.load_many is None:
+        raise UserError(f"the {fam.name} family reads one log per run: give one DATA file (got "
+                        f"{', '.join(args.data)}) and at most one --holdout file")
+    train = _expand(args.data, "DATA")
+    folder = any(Path(d).is_dir() for d in args.data)
+    resolved_hold = {h.resolve() for h in hold_files}
+    if folder:      # a held-out file inside the DATA folder is left out of the training set
+        train = [t for t in train if t.resolve() not in resolved_hold]
+    else:
+        both = [str(t) for t in train if t.resolve() in resolved_hold]
+        if both:
+            raise UserError(f"--holdout {', '.join(both)}: also given as DATA; held-out data must be another run")
+    if not train:
+        raise UserError(f"DATA {' '.join(args.data)}: no training file left after removing the held-out files")
+    return train, hold_files, (None if hold_files else fraction)
+
+
+def run(args) -> int:
+    from calibration.engine import Calibrator, concat_contexts, get_family
     from calibration.report import write_report
 
     try:
@@ -57,19 +127,31 @@ def run(args) -> int:
         raise UserError(f"--joint applies to the joint family only, not {args.family!r}")
     if args.max_effects < 0:
         raise UserError(f"--max-effects {args.max_effects}: must be >= 0")
+    if args.alpha is not None and not 0.0 < args.alpha < 1.0:
+        raise UserError(f"--alpha {args.alpha:g}: a significance level must lie strictly between 0 and 1 (e.g. 0.01)")
+    if args.min_drop is not None and not 0.0 <= args.min_drop < 1.0:
+        raise UserError(f"--min-drop {args.min_drop:g}: a relative drop must lie in [0, 1) (e.g. 0.05 for 5 %)")
+    train_files, hold_files, fraction = _data_sets(fam, args)
     design = load_design(args.design)
     notes: list[str] = []
-    hold_file, fraction = split_holdout_arg(args.holdout)
-    train = _load(fam, args.data, design, args, notes)
-    holdout = _load(fam, hold_file, design, args, notes) if hold_file else None
+    if fam.load_many is not None and (len(train_files) > 1 or len(hold_files) > 1):
+        kw = {"notes": notes} if "notes" in inspect.signature(fam.load_many).parameters else {}
+        ctxs = fam.load_many([str(p) for p in train_files + hold_files], design, **kw)
+        train = concat_contexts(ctxs[:len(train_files)])
+        holdout = concat_contexts(ctxs[len(train_files):]) if hold_files else None
+    else:
+        train = _load(fam, str(train_files[0]), design, args, notes)
+        holdout = _load(fam, str(hold_files[0]), design, args, notes) if hold_files else None
     for n in notes:
         print(f"swiftfin fit: warning: {n}", file=sys.stderr)
-    cal = Calibrator(fam, holdout_fraction=fraction or 0.3, max_effects=args.max_effects)
+    cal = Calibrator(fam, holdout_fraction=fraction or 0.3, max_effects=args.max_effects, alpha=args.alpha,
+                     min_relative_drop=args.min_drop)
     cal.fit(train, holdout)
-    rep = write_report(cal, args.out, data=str(args.data), notes=notes, plots=not args.no_plots)
-    base, fin = rep["baseline"], rep["final"]
+    data = " ".join(str(p) for p in train_files)
+    rep = write_report(cal, args.out, data=data, notes=notes, plots=not args.no_plots)
+    base, fin, unit = rep["baseline"], rep["final"], rep["units"]["target"]
     print(f"{args.family}: {rep['n_samples']} samples; held-out RMSE {base['rmse_holdout']:.4g} (base) -> "
-          f"{fin['rmse_holdout']:.4g} {fam.target_unit} (final)")
+          f"{fin['rmse_holdout']:.4g} {unit} (final)")
     for e in rep["added_effects"]:
         alt = f" (indistinguishable from {', '.join(e['indistinguishable_from'])})" if e["indistinguishable_from"] else ""
         print(f"  + {e['name']}: {e['rmse_holdout_before']:.4g} -> {e['rmse_holdout_after']:.4g}, "
