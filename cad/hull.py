@@ -41,10 +41,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import build123d as bd
 import numpy as np
 
 from cad import layout as L
+from cad.kernel import bd
 from cad.fin import tang_dims_mm
 from cad.link import JointHardware, all_joint_hardware, box, isect, one_solid, pie, rod, vcyl
 from cad.part import PartSpec

@@ -43,17 +43,7 @@ import math
 from dataclasses import dataclass
 
 
-
-class _LazyKernel:
-    """build123d, imported on first use: the design loader calls joint_link_problems (numbers only) on
-    every command, and importing the kernel costs seconds."""
-
-    def __getattr__(self, name):
-        import build123d
-        return getattr(build123d, name)
-
-
-bd = _LazyKernel()
+from cad.kernel import bd
 
 from cad import layout as L
 from cad.part import PartSpec

@@ -14,12 +14,13 @@ from typing import Callable
 
 import numpy as np
 
-from cad.layout import cable_routes, half_height_mm, hull_segments, naca_half_width_mm, spool_dims
+from cad.layout import cable_routes, spool_dims
 from design_rules.findings import Finding, Severity, at_least, at_most, not_evaluated, within
 from physics.capstan import cable_area_m2
 from physics.kinematics import joint_resolution_rad
 from physics.loads import DriveLoads, JointLoads, LinkMass, drive_loads, fin_geometry, joint_loads
 from physics.strouhal import strouhal
+from swiftfin.errors import UserError
 from swiftfin.params import Problem
 from swiftfin.schema import Params
 
@@ -270,17 +271,12 @@ def fit_factor(size_mm, bed_mm) -> float:
 def layout_part_boxes_mm(p: Params) -> dict[str, tuple[float, float, float]]:
     """Print-orientation bounding boxes of the parts the layout already sizes: hull segments (halves, flat face
     down, when split), the caudal fin (flat) and the spool (axis up). An estimate until the parts are built."""
+    from cad.hull import hull_pieces, printed_size_mm  # the hull's own split plan (numbers only)
     out = {}
-    for seg in hull_segments(p):
-        s = np.linspace(seg.s_start_mm, seg.s_end_mm, 200)
-        w = 2 * float(np.max(naca_half_width_mm(p, s)))
-        h = float(np.max(half_height_mm(p, s)))
-        length = seg.s_end_mm - seg.s_start_mm
-        if p.hull.split_halves:
-            out[f"{seg.name}_upper"] = (length, w, h)
-            out[f"{seg.name}_lower"] = (length, w, h)
-        else:
-            out[seg.name] = (length, w, 2 * h)
+    for pc in hull_pieces(p):
+        size = printed_size_mm(p, pc)
+        for label in ((f"{pc.name}_upper", f"{pc.name}_lower") if p.hull.split_halves else (pc.name,)):
+            out[label] = size
     fin = fin_geometry(p)
     sweep = math.tan(math.radians(p.caudal_fin.sweep_deg)) * fin.span_m / 2
     out["caudal_fin"] = ((fin.chord_m + sweep) * 1e3 + p.caudal_fin.mount_length_mm, fin.span_m * 1e3,
@@ -293,8 +289,14 @@ def layout_part_boxes_mm(p: Params) -> dict[str, tuple[float, float, float]]:
 def bed_fit(ctx: RuleContext) -> Finding:
     pr = ctx.p.print
     bed = (pr.bed_x_mm, pr.bed_y_mm, pr.bed_z_mm)
-    boxes, src = (ctx.part_bboxes_mm, "built parts") if ctx.part_bboxes_mm else (layout_part_boxes_mm(ctx.p),
-                                                                                  "layout estimate")
+    if ctx.part_bboxes_mm:
+        boxes, src = ctx.part_bboxes_mm, "built parts"
+    else:
+        try:
+            boxes, src = layout_part_boxes_mm(ctx.p), "the part families' split plan"
+        except UserError as exc:  # a hull segment that no split makes fit
+            return at_least("print.bed_fit", 0.0, 1.0, "every printed part fits the bed (turned about z if need be)",
+                            detail=str(exc))
     factors = {k: fit_factor(v, bed) for k, v in boxes.items()}
     name = min(factors, key=factors.get)
     size = boxes[name]
