@@ -8,9 +8,12 @@
 * The capstan cables are fixed tendons ``cable_j`` (length change = moment arm x joint angle): they report
   the cable excursion each side, and hence the spool's turn (excursion / spool radius).
 * Water: ``<option density viscosity>``; every link has an ellipsoid geom with ``fluidshape="ellipsoid"``
-  (MuJoCo's ellipsoid fluid model: added mass, viscous and quadratic drag, Kutta lift), the tail link a thin
-  one for the caudal fin. These ellipsoids are also the collision primitives (all self-contacts excluded:
-  the hard stops are joint limits).
+  (MuJoCo's ellipsoid fluid model: added mass, viscous and quadratic drag, Kutta and Magnus lift, default
+  coefficients), the tail link a thin-plate one of the caudal fin's span and planform area. These ellipsoids
+  are also the collision primitives (all self-contacts excluded: the hard stops are joint limits).
+  Caveat (tests/test_mujoco_swim.py): MuJoCo's added-mass force keeps only ``(rho m_v v) x omega`` and drops
+  ``-rho m_v dv/dt``; on an undulating fish that half has a backward mean, and the model has no reactive
+  (shed-wake) thrust, so the paper's wave drives this fish slowly backward in MuJoCo.
 * **Buoyancy.** MuJoCo's fluid models add no buoyancy, so each body gets ``gravcomp = rho_w V_link / m_link``:
   an upward force equal to the weight of the water the link displaces, applied at the link's COM. The
   righting couple (buoyancy acts at the centre of buoyancy, not the COM) is not expressible in the file;

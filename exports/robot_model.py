@@ -10,9 +10,9 @@ A frozen :class:`Robot` of :class:`Link`, :class:`Joint` and :class:`Tendon`, in
 
 Joint axis: ``(0, 0, -1)``, so that a positive joint angle turns the child's tail toward +y (cad/layout.py).
 
-Water: every swimming link carries a ``fluid`` ellipsoid (centre and semi-axes in the link frame) whose volume
-equals the link's displaced volume and whose proportions follow the hull there (its length along x, its
-height/width ratio), plus a thin ellipsoid for the caudal fin; MuJoCo's ellipsoid fluid model uses them.
+Water: every swimming link carries a ``fluid`` ellipsoid (centre and semi-axes in the link frame; the head's
+of its hull envelope, the hull links' slender, see :func:`fluid_ellipsoid`), plus a thin-plate ellipsoid for
+the caudal fin (:func:`fin_ellipsoid`); MuJoCo's ellipsoid fluid model uses them.
 Buoyancy (``Link.displaced_volume_m3``, ``Link.cob_m``): the exporters that can express it do so.
 """
 from __future__ import annotations
@@ -141,25 +141,50 @@ def reflected_armature_kg_m2(p: Params) -> float:
 
 
 def fluid_ellipsoid(p: Params, report: MassReport, j: int) -> Geometry:
-    """Ellipsoid of link j's hull envelope: length of its span of stations, volume = displaced hull volume."""
+    """Fluid ellipsoid of link j over its span of stations [s0, s1] (MuJoCo's ellipsoid fluid model).
+
+    * The head (j = 0), the leading body, is the ellipsoid of its hull envelope: its length, volume = the
+      displaced hull volume, height/width ratio of the hull.
+    * A hull link (j >= 1) is a slice of a continuous, skinned body, and its ellipsoid keeps what the water
+      sees of it: its length (a_x = (s1 - s0) / 2) and its mean hull height (a_z), so the side area and the
+      lateral added mass per length rho pi (h/2)^2 of slender-body theory; its frontal area is only the
+      ring by which the body's cross-section changes over the link (the rest is shadowed by the body ahead),
+      a_y = |A(s0) - A(s1)| / (pi a_z), between half the wall thickness and the link's mean half-width. A
+      volume-matched ellipsoid of a 39 mm link of a 75 mm wide body would be a disk facing the flow (its
+      thinnest axis x), which MuJoCo treats as a plate across the stream.
+    """
     js = layout.joint_stations_mm(p)
     bounds = [0.0, *js, layout.hull_end_mm(p)]
     s0, s1 = bounds[j], bounds[j + 1]
-    from exports.massprops import envelope_volume_mm3
-    V, s_c = envelope_volume_mm3(p, s0, s1)
     ax = (s1 - s0) / 2
-    # a_y * a_z = 3 V / (4 pi a_x), a_z = k a_y
-    k = p.body.height_to_width
-    ay = math.sqrt(3 * V / (4 * math.pi * ax) / k)
+    if j == 0:
+        from exports.massprops import envelope_volume_mm3
+        V, s_c = envelope_volume_mm3(p, s0, s1)
+        # a_y * a_z = 3 V / (4 pi a_x), a_z = k a_y
+        k = p.body.height_to_width
+        ay = math.sqrt(3 * V / (4 * math.pi * ax) / k)
+        az = k * ay
+    else:
+        s = np.linspace(s0, s1, 401)
+        az = float(np.mean(layout.half_height_mm(p, s)))
+        half_width = float(np.mean(layout.naca_half_width_mm(p, s)))
+
+        def area(x):
+            return math.pi * float(layout.naca_half_width_mm(p, x)) * float(layout.half_height_mm(p, x))
+        ay = min(max(abs(area(s0) - area(s1)) / (math.pi * az), p.hull.wall_thickness_mm / 2), half_width)
     origin = link_origin_mm(p, j)
     centre = units.length_m(np.array([-(s0 + s1) / 2 - origin[0], 0.0, 0.0]))
     return Geometry(f"{report.links[j].name}_fluid", "ellipsoid",
-                    tuple(float(v) for v in units.length_m(np.array([ax, ay, k * ay]))), "",
+                    tuple(float(v) for v in units.length_m(np.array([ax, ay, az]))), "",
                     Pose(tuple(float(v) for v in centre)))
 
 
 def fin_ellipsoid(p: Params, parts, last_link: int) -> Geometry | None:
-    """A thin ellipsoid over the caudal fin's bounding box behind the hull end (span z, chord x, thickness y)."""
+    """The caudal fin as a thin-plate ellipsoid: span (z) and planform area of cad.fin.planform (chord semi-axis
+    ``S / (pi b / 2)``, so the ellipse has the fin's area), centred at the planform's area centroid; thickness
+    (y) and height of the centre from the fin parts' bounding box behind the hull end (the blade's thickest
+    section). The bounding box's x extent is not the chord: the swept, lunate fin spans ~3 chords in x."""
+    from cad.fin import planform
     x_end = -layout.hull_end_mm(p)
     lo, hi = None, None
     for part in parts:
@@ -172,10 +197,15 @@ def fin_ellipsoid(p: Params, parts, last_link: int) -> Geometry | None:
         hi = b if hi is None else np.maximum(hi, b)
     if lo is None or hi[0] <= lo[0]:
         return None
+    pf = planform(p)
+    eta = np.linspace(-1.0, 1.0, 4001)
+    c = pf.chord_mm(eta)
+    s_centroid = float(np.trapezoid((pf.s_le_mm(eta) + c / 2) * c, eta) / np.trapezoid(c, eta))
+    semi_mm = np.array([pf.area_mm2 / (math.pi * pf.span_mm / 2), (hi[1] - lo[1]) / 2, pf.span_mm / 2])
+    centre_mm = np.array([-s_centroid, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2])
     origin = np.asarray(link_origin_mm(p, last_link))
-    centre = units.length_m((lo + hi) / 2 - origin)
-    semi = units.length_m((hi - lo) / 2)
-    return Geometry("caudal_fin_fluid", "ellipsoid", tuple(float(v) for v in semi), "",
+    centre = units.length_m(centre_mm - origin)
+    return Geometry("caudal_fin_fluid", "ellipsoid", tuple(float(v) for v in units.length_m(semi_mm)), "",
                     Pose(tuple(float(v) for v in centre)))
 
 

@@ -7,7 +7,15 @@ centre of buoyancy: :func:`swim` adds, every step, the couple ``(r_cob - r_com) 
 
 Joint commands: the relative joint angles of the travelling wave (physics.kinematics, eq. 43-47 in relative
 form), faded in over ``ramp_s`` (the paper's start-up transient is 0.5-1 s), fed to the position actuators.
-SI units throughout.
+
+Root: ``planar=False`` keeps the file's free joint. ``planar=True`` replaces it (in memory, ``mujoco.MjSpec``)
+by surge x, sway y and yaw z, the way a fish is held level in a swimming test: the default design's COM lies
+31 mm ahead of its centre of buoyancy (mass_properties.json), so the free fish hangs nose-down within a second
+or two and its +x speed is no longer a swimming speed. Speeds are measured along the fish's mean heading.
+
+:func:`fluid_force_terms` splits MuJoCo's fluid force on one geom into the terms of its ellipsoid model, gives
+the part of the added-mass force MuJoCo leaves out, and Lighthill's elongated-body reactive thrust for the
+geom's trailing-edge motion (the reference for sign and size, meaningful for the caudal fin). SI units.
 """
 from __future__ import annotations
 
@@ -16,6 +24,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from physics.kinematics import relative_joint_angles_rad, wave_from_params
+
+FLUIDCOEF_DEFAULT = (0.5, 0.25, 1.5, 1.0, 1.0)
+"""MuJoCo's default fluidcoef: blunt drag, slender drag, angular drag, Kutta lift, Magnus lift."""
 
 
 @dataclass(frozen=True)
@@ -30,13 +41,33 @@ class SwimResult:
     command_rad: np.ndarray       # commanded joint angles, per sample
     finite: bool                  # no NaN/inf in the state at any step
     warnings: dict                # MuJoCo warning counters that fired {name: count}
+    planar: bool = False
+
+    def window(self, t0_s: float | None = None) -> np.ndarray:
+        """Samples from ``t0_s`` (default: half the run) to the end."""
+        t0 = self.duration_s / 2 if t0_s is None else t0_s
+        return self.time_s >= t0
 
     def forward_speed_m_s(self, t0_s: float | None = None) -> float:
-        """Mean +x speed of the fish's COM from ``t0_s`` (default: half the run) to the end."""
-        t0 = self.duration_s / 2 if t0_s is None else t0_s
-        i = int(np.searchsorted(self.time_s, t0))
-        dt = self.time_s[-1] - self.time_s[i]
-        return float((self.com_xyz_m[-1, 0] - self.com_xyz_m[i, 0]) / dt)
+        """Mean speed of the fish's COM along its mean heading (the head's +x axis averaged over the window),
+        from ``t0_s`` (default: half the run) to the end. Positive = forward."""
+        w = np.flatnonzero(self.window(t0_s))
+        i, k = w[0], w[-1]
+        heading = self.head_axis[w].mean(axis=0)
+        heading /= np.linalg.norm(heading)
+        return float((self.com_xyz_m[k] - self.com_xyz_m[i]) @ heading / (self.time_s[k] - self.time_s[i]))
+
+    def joint_phase_lags_rad(self, t0_s: float | None = None) -> np.ndarray:
+        """Phase lag of each joint's motion at the wave frequency, behind joint 1 [rad], in [0, 2 pi).
+
+        A wave running from head to tail reaches each joint later than the one ahead of it, so the lags of
+        successive joints increase (each step in (0, pi))."""
+        w = self.window(t0_s)
+        t = self.time_s[w]
+        z = (self.joint_rad[w] * np.exp(-2j * np.pi * self.frequency_hz * t)[:, None]).sum(axis=0)
+        # q_j = a cos(w t - lag_j)  ->  sum q_j e^{-i w t} ~ e^{-i lag_j}
+        lag = -np.angle(z)
+        return np.mod(lag - lag[0], 2 * np.pi)
 
 
 def buoyancy_couple(model, data, rho_w: float, g: float, volumes_m3: dict[int, float], cob_site: dict[int, int]):
@@ -47,19 +78,68 @@ def buoyancy_couple(model, data, rho_w: float, g: float, volumes_m3: dict[int, f
         data.xfrc_applied[b, 3:6] = np.cross(r, F)
 
 
+def load_model(model_path, planar: bool = False):
+    """The MJCF as an MjModel; ``planar``: the head's free joint replaced by surge x, sway y and yaw z."""
+    import mujoco
+    if not planar:
+        return mujoco.MjModel.from_xml_path(str(model_path))
+    spec = mujoco.MjSpec.from_file(str(model_path))
+    head = spec.worldbody.first_body()
+    for jt in list(head.joints):
+        if jt.type == mujoco.mjtJoint.mjJNT_FREE:
+            spec.delete(jt)
+    head.add_joint(name="root_x", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[1.0, 0.0, 0.0])
+    head.add_joint(name="root_y", type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0.0, 1.0, 0.0])
+    head.add_joint(name="root_yaw", type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0.0, 0.0, 1.0])
+    return spec.compile()
+
+
+class WaveDrive:
+    """Commands of the travelling wave for the position actuators ``motor_1..n`` of a model."""
+
+    def __init__(self, model, params, frequency_hz: float | None = None, ramp_s: float = 0.5,
+                 amplitude_scale: float = 1.0, phase_lag_rad=None):
+        import mujoco
+        self.frequency_hz = params.swimming.tail_beat_frequency_hz if frequency_hz is None else frequency_hz
+        self.L = params.body.length_mm / 1000.0
+        self.wave = wave_from_params(params.swimming, self.L, self.frequency_hz)
+        self.stations = np.asarray([s * self.L for s in params.joints.stations_fraction])
+        n = params.joints.count
+        self.act = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"motor_{j}") for j in range(1, n + 1)]
+        jid = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"joint_{j}") for j in range(1, n + 1)]
+        self.qadr = [model.jnt_qposadr[j] for j in jid]
+        self.lo = model.actuator_ctrlrange[self.act, 0]
+        self.hi = model.actuator_ctrlrange[self.act, 1]
+        self.ramp_s, self.scale = ramp_s, amplitude_scale
+        self.lag = None if phase_lag_rad is None else np.asarray(phase_lag_rad, dtype=float)
+
+    def command(self, t: float) -> np.ndarray:
+        if self.lag is None:
+            u = relative_joint_angles_rad(self.wave, self.stations, self.L, [t])[0]
+        else:
+            lag_t = t - self.lag / self.wave.omega_rad_s
+            u = np.array([relative_joint_angles_rad(self.wave, self.stations, self.L, [tj])[0][j]
+                          for j, tj in enumerate(lag_t)])
+        u = u * self.scale * (min(1.0, t / self.ramp_s) if self.ramp_s > 0 else 1.0)
+        return np.clip(u, self.lo, self.hi)
+
+
 def swim(model_path: str, params, frequency_hz: float | None = None, duration_s: float = 2.0,
          ramp_s: float = 0.5, amplitude_scale: float = 1.0, sample_every: int = 10, trim_neutral: bool = True,
-         phase_lag_rad=None, initial_speed_m_s: float = 0.0, gravity: bool = True) -> SwimResult:
+         phase_lag_rad=None, initial_speed_m_s: float = 0.0, gravity: bool = True,
+         planar: bool = False, added_mass: bool = True) -> SwimResult:
     """Run the fish in MuJoCo for ``duration_s`` with the wave at ``frequency_hz`` (default: design).
 
     ``trim_neutral``: scale every link's buoyancy by one factor so that buoyancy equals weight, as ballast
     trimming the fish neutral would (the design itself may be positively buoyant: mass_properties.json says by
     how much). ``phase_lag_rad``: optional per-joint phase lag added to the wave's command (joint j is fed
     the angle of time ``t - lag_j / omega``); None = the paper's wave. ``initial_speed_m_s``: start moving
-    forward (+x) at this speed. ``gravity`` False: no gravity and no buoyancy (a control run).
+    forward (+x) at this speed. ``gravity`` False: no gravity and no buoyancy (a control run). ``planar``: see
+    the module docstring. ``added_mass`` False: a diagnosis only, never a result: the virtual mass of every
+    fluid geom zeroed, which removes MuJoCo's half of the added-mass force (see :func:`fluid_force_terms`).
     """
     import mujoco
-    model = mujoco.MjModel.from_xml_path(str(model_path))
+    model = load_model(model_path, planar)
     data = mujoco.MjData(model)
     if trim_neutral:
         lift = float((model.body_gravcomp * model.body_mass).sum())
@@ -67,18 +147,11 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
             model.body_gravcomp[:] *= float(model.body_mass.sum()) / lift
     if not gravity:
         model.opt.gravity[:] = 0.0
+    if not added_mass:
+        model.geom_fluid[:, 6:] = 0.0
     if initial_speed_m_s:
         data.qvel[0] = initial_speed_m_s
-    f = params.swimming.tail_beat_frequency_hz if frequency_hz is None else frequency_hz
-    L = params.body.length_mm / 1000.0
-    wave = wave_from_params(params.swimming, L, f)
-    stations = np.asarray([s * L for s in params.joints.stations_fraction])
-    n = params.joints.count
-    act = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, f"motor_{j}") for j in range(1, n + 1)]
-    jid = [mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"joint_{j}") for j in range(1, n + 1)]
-    qadr = [model.jnt_qposadr[j] for j in jid]
-    lo = model.actuator_ctrlrange[act, 0]
-    hi = model.actuator_ctrlrange[act, 1]
+    drive = WaveDrive(model, params, frequency_hz, ramp_s, amplitude_scale, phase_lag_rad)
     rho_w = float(model.opt.density)
     g = float(-model.opt.gravity[2])
     volumes, cob = {}, {}
@@ -96,13 +169,7 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
     M = model.body_mass[1:].sum()
     for k in range(steps + 1):
         t = data.time
-        if phase_lag_rad is None:
-            u = relative_joint_angles_rad(wave, stations, L, [t])[0]
-        else:
-            lag_t = t - np.asarray(phase_lag_rad, dtype=float) / wave.omega_rad_s
-            u = np.array([relative_joint_angles_rad(wave, stations, L, [tj])[0][j] for j, tj in enumerate(lag_t)])
-        u = u * amplitude_scale * (min(1.0, t / ramp_s) if ramp_s > 0 else 1.0)
-        data.ctrl[act] = np.clip(u, lo, hi)
+        data.ctrl[drive.act] = drive.command(t)
         if k % sample_every == 0:
             mujoco.mj_kinematics(model, data)
             mujoco.mj_comPos(model, data)
@@ -110,8 +177,8 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
             head_x.append(data.xpos[head].copy())
             axis.append(data.xmat[head].reshape(3, 3)[:, 0].copy())
             com_x.append((model.body_mass[1:, None] * data.xipos[1:]).sum(axis=0) / M)
-            q.append(data.qpos[qadr].copy())
-            cmd.append(data.ctrl[act].copy())
+            q.append(data.qpos[drive.qadr].copy())
+            cmd.append(data.ctrl[drive.act].copy())
         if k == steps:
             break
         mujoco.mj_kinematics(model, data)
@@ -123,6 +190,128 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
             break
     warn = {mujoco.mjtWarning(i).name: int(data.warning[i].number) for i in range(len(data.warning))
             if data.warning[i].number}
-    return SwimResult(f, duration_s, np.asarray(ts), np.asarray(head_x), np.asarray(com_x), np.asarray(axis),
-                      np.asarray(q),
-                      np.asarray(cmd), finite, warn)
+    return SwimResult(drive.frequency_hz, duration_s, np.asarray(ts), np.asarray(head_x), np.asarray(com_x),
+                      np.asarray(axis), np.asarray(q), np.asarray(cmd), finite, warn, planar)
+
+
+# ----------------------------------------------------------------------------------------------- diagnosis
+FLUID_TERMS = {
+    # name: (fluidcoef, keep the virtual mass/inertia of the added-mass term)
+    "added_mass": ((0.0, 0.0, 0.0, 0.0, 0.0), True),
+    "drag": ((FLUIDCOEF_DEFAULT[0], FLUIDCOEF_DEFAULT[1], FLUIDCOEF_DEFAULT[2], 0.0, 0.0), False),
+    "kutta_lift": ((0.0, 0.0, 0.0, FLUIDCOEF_DEFAULT[3], 0.0), False),
+    "magnus_lift": ((0.0, 0.0, 0.0, 0.0, FLUIDCOEF_DEFAULT[4]), False),
+}
+
+
+@dataclass(frozen=True)
+class ThrustTerms:
+    """Mean fluid force along the fish's heading on one geom, per term of MuJoCo's ellipsoid model [N],
+    over the whole periods of the second half of a planar run with gravity off, and Lighthill's reactive
+    thrust for the same trailing-edge motion."""
+    frequency_hz: float
+    speed_m_s: float                  # mean forward speed over the window
+    total_n: float                    # MuJoCo, all terms together
+    terms_n: dict                     # MuJoCo, one term at a time (FLUID_TERMS)
+    lighthill_n: float                # 1/2 m_a <w^2 - U^2 h'^2> at the trailing edge
+    te_lateral_rms_m_s: float         # rms lateral speed of the trailing edge
+    added_mass_per_length_kg_m: float  # m_a = rho pi (span/2)^2
+    pitch_heave_correlation: float    # corr(sin yaw of the geom, its lateral speed)
+    omitted_added_mass_n: float       # mean of the added-mass term MuJoCo leaves out, -R rho m_v dv/dt
+
+
+def fluid_force_terms(model_path, params, frequency_hz: float | None = None, duration_s: float = 3.0,
+                     geom: str = "caudal_fin_fluid", sample_every: int = 5) -> ThrustTerms:
+    """Split MuJoCo's fluid force on ``geom`` into its model's terms along the run of :func:`swim` (planar,
+    no gravity), and give Lighthill's elongated-body mean thrust for the same motion as the reference.
+
+    Each term is evaluated on a copy of the model in which ``geom`` keeps only that term and every other
+    fluid geom keeps its interaction flag with zero coefficients (so that its body stays on the ellipsoid
+    model and adds only the negligible Stokes term): the force of the run's own state, step by step.
+
+    Lighthill (1971), reactive thrust of an elongated body at the trailing edge:
+    T = 1/2 m_a <w^2 - U^2 h'^2>, w = dh/dt + U h' (lateral water speed at the edge, U forward), with
+    m_a = rho pi (s/2)^2 the lateral added mass per unit length of the edge of span s and h' the edge's slope.
+    """
+    import mujoco
+    model = load_model(model_path, planar=True)
+    model.opt.gravity[:] = 0.0
+    data = mujoco.MjData(model)
+    gid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
+    fluid = [g for g in range(model.ngeom) if model.geom_fluid[g, 0] > 0]
+    probes = {}
+    for name, (coef, keep_virtual) in {"total": (tuple(model.geom_fluid[gid, 1:6]), True),
+                                       **FLUID_TERMS}.items():
+        m2 = load_model(model_path, planar=True)
+        m2.opt.gravity[:] = 0.0
+        for g in fluid:
+            if g != gid:
+                m2.geom_fluid[g, 1:] = 0.0
+        m2.geom_fluid[gid, 1:6] = coef
+        if not keep_virtual:
+            m2.geom_fluid[gid, 6:] = 0.0
+        probes[name] = (m2, mujoco.MjData(m2))
+    drive = WaveDrive(model, params, frequency_hz)
+    head = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "head")
+    steps = int(round(duration_s / model.opt.timestep))
+    period = 1.0 / drive.frequency_hz
+    t_start = duration_s - period * np.floor(duration_s / 2 / period)      # whole periods to the end
+    forces = {k: [] for k in probes}
+    rows, v_local, R_geom, heads, t_s = [], [], [], [], []
+    for k in range(steps):
+        data.ctrl[drive.act] = drive.command(data.time)
+        mujoco.mj_step(model, data)
+        if data.time < t_start or k % sample_every:
+            continue
+        heading = data.xmat[head].reshape(3, 3)[:, 0]
+        for name, (m2, d2) in probes.items():
+            d2.qpos[:] = data.qpos
+            d2.qvel[:] = data.qvel
+            mujoco.mj_forward(m2, d2)
+            # world force on the fish = generalized forces of surge and sway (planar root: x, y slides)
+            forces[name].append(d2.qfrc_fluid[:2].copy())
+        R = data.geom_xmat[gid].reshape(3, 3)
+        v = np.zeros(6)
+        mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_GEOM, gid, v, 0)   # world frame
+        te = data.geom_xpos[gid] - R[:, 0] * model.geom_size[gid, 0]                 # trailing edge (-x end)
+        v_te = v[3:] + np.cross(v[:3], te - data.geom_xpos[gid])
+        lateral = np.cross(np.array([0.0, 0.0, 1.0]), heading)                        # fish's +y
+        v_geom = np.zeros(6)
+        mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_GEOM, gid, v_geom, 1)     # geom axes
+        v_local.append(v_geom[3:].copy())
+        R_geom.append(R.copy())
+        heads.append(heading.copy())
+        t_s.append(data.time)
+        rows.append((v_te @ lateral, R[:, 0] @ lateral, data.qvel[0] * heading[0] + data.qvel[1] * heading[1],
+                     v[3:] @ lateral))
+    # forces along the mean heading of the window (a fixed direction: a periodic impulse then has no mean rate)
+    e = np.asarray(heads)[:, :2].mean(axis=0)
+    e /= np.linalg.norm(e)
+    forces = {k: np.asarray(v) @ e for k, v in forces.items()}
+    rows = np.asarray(rows)
+    hdot, slope, U = rows[:, 0], rows[:, 1], float(rows[:, 2].mean())
+    # h' = dh/dx along the body toward the tail; the geom's +x points to the head, so the slope toward the
+    # tail is -(sin of its yaw) in the fish's lateral direction
+    h_prime = -slope
+    w = hdot + U * h_prime
+    span = 2.0 * float(model.geom_size[gid, 2])
+    m_a = float(model.opt.density) * np.pi * (span / 2) ** 2
+    # The added-mass (Kirchhoff) force of a rigid body in potential flow is F = -dP/dt with P = R (rho m_v v)
+    # its fluid impulse (world frame): -R (rho m_v dv/dt) + R ((rho m_v v) x omega). MuJoCo keeps the second
+    # term only (its passive forces cannot depend on accelerations); the first, omitted, is -dP/dt minus the
+    # kept one. Over whole periods of a periodic motion -dP/dt averages to zero.
+    P = np.einsum("kij,kj->ki", np.asarray(R_geom), float(model.opt.density) * model.geom_fluid[gid, 6:9]
+                  * np.asarray(v_local))
+    full = -np.gradient(P, np.asarray(t_s), axis=0)[:, :2] @ e
+    omitted = full - forces["added_mass"]
+    return ThrustTerms(drive.frequency_hz, U, float(np.mean(forces["total"])),
+                       {k: float(np.mean(v)) for k, v in forces.items() if k != "total"},
+                       float(0.5 * m_a * np.mean(w**2 - U**2 * h_prime**2)), float(np.sqrt(np.mean(hdot**2))),
+                       m_a, correlation(slope, rows[:, 3]), float(np.mean(omitted)))
+
+
+def correlation(a, b) -> float:
+    """Pearson correlation of two samples; 0 where either does not vary."""
+    a, b = np.asarray(a, dtype=float) - np.mean(a), np.asarray(b, dtype=float) - np.mean(b)
+    den = float(np.sqrt((a @ a) * (b @ b)))
+    return float(a @ b / den) if den > 0 else 0.0

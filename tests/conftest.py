@@ -40,6 +40,17 @@ def default_params():
     return load_design(DEFAULT_DESIGN)
 
 
+@pytest.fixture(scope="session")
+def default_parts(default_params):
+    """Every part of the default design: each family of cad/registry.py, in build order (built once per
+    session: about 30 s)."""
+    from cad.registry import FAMILIES, family_function
+    parts = []
+    for name in FAMILIES:
+        parts += family_function(name)(default_params)
+    return parts
+
+
 def pytest_addoption(parser):
     parser.addoption("--update-golden", action="store_true", default=False,
                      help="rewrite tests/golden/*.json from the current build (on purpose only)")

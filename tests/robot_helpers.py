@@ -1,5 +1,9 @@
-"""Shared by the robot-export and swimming tests: a small stand-in design of boxes, one or two per link, at
-the real layout's stations (fast), and the default design's real parts (slow)."""
+"""Shared by the robot-export tests: a small stand-in design of boxes, one or two per link, at the real
+layout's stations (fast), and the default design's real parts (slow).
+
+``mini_parts`` is a STAND-IN, for the exporter's mechanics only (files, frames, digits, the gate). It is not
+the fish: never swim it and never report a number from it. Swimming uses the real parts (the session fixture
+``default_parts`` of tests/conftest.py)."""
 from __future__ import annotations
 
 from build123d import Axis, Box, Pos
@@ -9,8 +13,9 @@ from cad.part import PartSpec
 
 
 def mini_parts(p) -> list[PartSpec]:
-    """A box per link inside the hull at its segment's middle (one turned 30 deg about z so the tensor has
-    products of inertia), a bought 'battery' in the head, and a thin 'fin' plate behind the hull end."""
+    """Stand-in for the exporter's mechanics only (see the module docstring). A box per link inside the hull
+    at its segment's middle (one turned 30 deg about z so the tensor has products of inertia), a bought
+    'battery' in the head, and a thin 'fin' plate behind the hull end."""
     out = []
     for seg in layout.hull_segments(p):
         s = 0.5 * (seg.s_start_mm + seg.s_end_mm)
@@ -27,6 +32,7 @@ def mini_parts(p) -> list[PartSpec]:
 
 
 def default_parts(p) -> list[PartSpec]:
+    """The real parts of a design: every family of cad/registry.py (the conftest fixture builds them once)."""
     from cad.registry import FAMILIES, family_function
     parts = []
     for name in FAMILIES:
