@@ -1,0 +1,278 @@
+"""STEP, STL and 3MF writers for one part, deterministic byte for byte (STEP: with a fixed header timestamp).
+
+The mesh comes from OpenCascade's incremental mesher with the parameter file's linear and angular deflection
+(``export.mesh_tolerance_mm``, ``export.mesh_angular_tolerance_deg``). Any triangulation already stored on the
+shape is removed first, so a solid fresh from a part family and the same solid read back from the cache give
+the same triangles. Vertices shared by neighbouring faces are welded, so the mesh is closed (watertight) when
+the B-rep is.
+
+Print orientation (cad/part.py): the part is turned by ``PartSpec.print_rotation`` = build123d
+``Rotation(rx, ry, rz)`` (intrinsic X, then Y, then Z, degrees) about the body-frame origin, dropped onto the
+bed (min z = 0) and centred on the bed in x and y (``print.bed_x_mm``, ``print.bed_y_mm``), so that a slicer
+opening the 3MF finds it in the middle of the plate.
+
+STL: binary, a fixed 80-byte header naming the part, float32 as the format requires.
+3MF: the core specification's minimal package ([Content_Types].xml, _rels/.rels, 3D/3dmodel.model) in
+millimetres, written with :mod:`zipfile` with fixed entry dates so that the same mesh gives the same bytes.
+"""
+from __future__ import annotations
+
+import io
+import math
+import re
+import struct
+import zipfile
+from dataclasses import dataclass
+from xml.sax.saxutils import escape
+
+import numpy as np
+
+STEP_TIMESTAMP = "2000-01-01T00:00:00"   # fixed STEP header date: same part, same STEP bytes
+ZIP_DATE = (1980, 1, 1, 0, 0, 0)         # earliest date a zip entry can carry
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """A triangle mesh in millimetres: ``vertices`` (n, 3) float64, ``faces`` (m, 3) int64, outward winding."""
+    vertices: np.ndarray
+    faces: np.ndarray
+
+    def transformed(self, matrix: np.ndarray) -> "Mesh":
+        m = np.asarray(matrix, dtype=float)
+        v = self.vertices @ m[:3, :3].T + m[:3, 3]
+        return Mesh(v, self.faces)
+
+    @property
+    def volume_mm3(self) -> float:
+        """Signed volume (divergence theorem); positive for outward winding."""
+        a, b, c = (self.vertices[self.faces[:, k]] for k in range(3))
+        return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
+
+    @property
+    def area_mm2(self) -> float:
+        a, b, c = (self.vertices[self.faces[:, k]] for k in range(3))
+        return float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2.0)
+
+    @property
+    def bbox_mm(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.vertices.min(axis=0), self.vertices.max(axis=0)
+
+
+# --------------------------------------------------------------------------------------------- tessellation
+def tessellate(shape, tolerance_mm: float, angular_tolerance_deg: float) -> Mesh:
+    """Welded triangle mesh of a build123d shape (or a TopoDS_Shape) in its own coordinates [mm]."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.BRepTools import BRepTools
+    from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+
+    topo = getattr(shape, "wrapped", shape)
+    BRepTools.Clean_s(topo)  # forget any triangulation made with other settings: same input, same mesh
+    BRepMesh_IncrementalMesh(topo, tolerance_mm, False, math.radians(angular_tolerance_deg), False)
+    verts: list[np.ndarray] = []
+    tris: list[np.ndarray] = []
+    offset = 0
+    exp = TopExp_Explorer(topo, TopAbs_FACE)
+    while exp.More():
+        face = TopoDS.Face(exp.Current()) if hasattr(TopoDS, "Face") else TopoDS.Face_s(exp.Current())
+        loc = TopLoc_Location()
+        tri = BRep_Tool.Triangulation_s(face, loc)
+        exp.Next()
+        if tri is None:
+            continue
+        trsf = loc.Transformation()
+        n = tri.NbNodes()
+        pts = np.empty((n, 3))
+        for i in range(n):
+            q = tri.Node(i + 1).Transformed(trsf)
+            pts[i] = (q.X(), q.Y(), q.Z())
+        m = tri.NbTriangles()
+        idx = np.empty((m, 3), dtype=np.int64)
+        for i in range(m):
+            idx[i] = tri.Triangle(i + 1).Get()
+        idx -= 1
+        if face.Orientation() == TopAbs_REVERSED:
+            idx = idx[:, ::-1]
+        verts.append(pts)
+        tris.append(idx + offset)
+        offset += n
+    if not tris:
+        raise ValueError("the shape has no faces to tessellate")
+    return weld(np.concatenate(verts), np.concatenate(tris))
+
+
+def weld(vertices: np.ndarray, faces: np.ndarray, decimals: int = 7) -> Mesh:
+    """Merge coincident vertices (equal to ``decimals`` places of a mm) and drop degenerate triangles."""
+    key = np.round(vertices, decimals) + 0.0  # + 0.0 turns -0.0 into 0.0
+    uniq, inverse = np.unique(key, axis=0, return_inverse=True)
+    f = inverse.reshape(-1)[faces]
+    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2])
+    f = f[keep]
+    used = np.unique(f)
+    remap = np.full(len(uniq), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    return Mesh(uniq[used], remap[f])
+
+
+def is_closed(mesh: Mesh) -> bool:
+    """Every edge shared by exactly two triangles, in opposite directions (closed, consistently wound)."""
+    f = mesh.faces
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    directed, counts = np.unique(e, axis=0, return_counts=True)
+    if np.any(counts != 1):
+        return False
+    rev = np.unique(e[:, ::-1], axis=0)
+    return len(rev) == len(directed) and bool(np.all(rev == directed))
+
+
+# --------------------------------------------------------------------------------------------- orientation
+def rotation_matrix(print_rotation: tuple[float, float, float]) -> np.ndarray:
+    """4x4 matrix of build123d ``Rotation(rx, ry, rz)`` (intrinsic XYZ, degrees)."""
+    import build123d as bd
+
+    t = bd.Rotation(*[float(a) for a in print_rotation]).wrapped.Transformation()
+    m = np.eye(4)
+    for i in range(3):
+        for j in range(4):
+            m[i, j] = t.Value(i + 1, j + 1)
+    return m
+
+
+def print_transform(mesh_at_rest: Mesh, print_rotation, bed_x_mm: float, bed_y_mm: float) -> np.ndarray:
+    """4x4 body frame -> print frame: rotate, drop onto the bed (min z = 0), centre on the bed in x, y."""
+    r = rotation_matrix(print_rotation)
+    v = mesh_at_rest.vertices @ r[:3, :3].T
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    shift = np.array([bed_x_mm / 2 - (lo[0] + hi[0]) / 2, bed_y_mm / 2 - (lo[1] + hi[1]) / 2, -lo[2]])
+    t = np.eye(4)
+    t[:3, 3] = shift
+    return t @ r
+
+
+def move_shape(shape, matrix: np.ndarray):
+    """A copy of a build123d shape moved by a rigid 4x4 matrix (label kept)."""
+    import build123d as bd
+    from OCP.gp import gp_Trsf
+
+    trsf = gp_Trsf()
+    m = np.asarray(matrix, dtype=float)
+    trsf.SetValues(*[float(m[i, j]) for i in range(3) for j in range(4)])
+    moved = shape.moved(bd.Location(trsf))
+    moved.label = shape.label
+    return moved
+
+
+# --------------------------------------------------------------------------------------------- writers
+def stl_bytes(mesh: Mesh, name: str) -> bytes:
+    """Binary STL, float32, fixed header."""
+    v = mesh.vertices[mesh.faces].astype(np.float32)           # (m, 3, 3)
+    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]).astype(np.float64)
+    ln = np.linalg.norm(n, axis=1, keepdims=True)
+    n = np.divide(n, ln, out=np.zeros_like(n), where=ln > 0).astype(np.float32)
+    rec = np.zeros(len(v), dtype=[("n", "<f4", 3), ("v", "<f4", (3, 3)), ("attr", "<u2")])
+    rec["n"] = n
+    rec["v"] = v
+    header = f"swiftfin {name} (mm)".encode("ascii", "replace")[:80].ljust(80, b" ")
+    return header + struct.pack("<I", len(v)) + rec.tobytes()
+
+
+_CONTENT_TYPES = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n'
+    '<Types xmlns="http://schemas.openxmlformats.org/package/2006/content-types">'
+    '<Default Extension="rels" ContentType="application/vnd.openxmlformats-package.relationships+xml"/>'
+    '<Default Extension="model" ContentType="application/vnd.ms-package.3dmanufacturing-3dmodel+xml"/>'
+    '</Types>\n')
+_RELS = (
+    '<?xml version="1.0" encoding="UTF-8"?>\n'
+    '<Relationships xmlns="http://schemas.openxmlformats.org/package/2006/relationships">'
+    '<Relationship Target="/3D/3dmodel.model" Id="rel0" '
+    'Type="http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel"/>'
+    '</Relationships>\n')
+
+
+def _model_xml(mesh: Mesh, name: str) -> str:
+    v = np.round(mesh.vertices, 6) + 0.0
+    vlines = "".join(f'<vertex x="{x:.6f}" y="{y:.6f}" z="{z:.6f}"/>' for x, y, z in v.tolist())
+    tlines = "".join(f'<triangle v1="{a}" v2="{b}" v3="{c}"/>' for a, b, c in mesh.faces.tolist())
+    nm = escape(name, {'"': "&quot;"})
+    return ('<?xml version="1.0" encoding="UTF-8"?>\n'
+            '<model unit="millimeter" xml:lang="en-US" '
+            'xmlns="http://schemas.microsoft.com/3dmanufacturing/core/2015/02">'
+            f'<metadata name="Title">{nm}</metadata>'
+            f'<resources><object id="1" name="{nm}" type="model"><mesh>'
+            f"<vertices>{vlines}</vertices><triangles>{tlines}</triangles>"
+            '</mesh></object></resources>'
+            '<build><item objectid="1"/></build></model>\n')
+
+
+def threemf_bytes(mesh: Mesh, name: str) -> bytes:
+    """A 3MF package (core spec) holding one object, in millimetres, with fixed zip dates."""
+    buf = io.BytesIO()
+    with zipfile.ZipFile(buf, "w") as z:
+        for arcname, text in (("[Content_Types].xml", _CONTENT_TYPES), ("_rels/.rels", _RELS),
+                              ("3D/3dmodel.model", _model_xml(mesh, name))):
+            info = zipfile.ZipInfo(arcname, date_time=ZIP_DATE)
+            info.compress_type = zipfile.ZIP_DEFLATED
+            info.external_attr = 0o644 << 16
+            info.create_system = 3
+            z.writestr(info, text.encode("utf-8"), compresslevel=6)
+    return buf.getvalue()
+
+
+def step_bytes(shape, name: str) -> bytes:
+    """STEP AP214 of one shape in mm with product name ``name`` and a fixed header timestamp."""
+    import build123d as bd
+
+    shape = shape.moved(bd.Location())
+    shape.label = name
+    buf = io.BytesIO()
+    if not bd.export_step(shape, buf, unit=bd.Unit.MM, timestamp=STEP_TIMESTAMP):
+        raise RuntimeError(f"STEP export of {name} failed")
+    return _renumber_nauo(buf.getvalue())
+
+
+_NAUO = re.compile(rb"NEXT_ASSEMBLY_USAGE_OCCURRENCE\('[^']*'(.*?)\);", re.DOTALL)
+
+
+def _renumber_nauo(data: bytes) -> bytes:
+    """OpenCascade numbers assembly occurrences with a counter that lives as long as the process, so the
+    second STEP written in one run differs from the first; number them 1, 2, ... per file instead, each
+    entity on one line (OpenCascade wraps lines by their length, which the number changes)."""
+    counter = iter(range(1, 1 << 30))
+
+    def one(m: re.Match) -> bytes:
+        rest = re.sub(rb"\r?\n\s*", b"", m.group(1))
+        return b"NEXT_ASSEMBLY_USAGE_OCCURRENCE('%d'%s);" % (next(counter), rest)
+
+    return _NAUO.sub(one, data)
+
+
+# --------------------------------------------------------------------------------------------- one part
+@dataclass
+class PartExport:
+    """Everything written for one part: the rest mesh (body frame, for the assembly checks), the B-rep's
+    volume and area, the size in print orientation and the file bytes (printed parts only)."""
+    mesh: Mesh
+    volume_mm3: float
+    area_mm2: float
+    print_size_mm: tuple[float, float, float]
+    files: dict[str, bytes]
+
+
+def export_part(spec, p) -> PartExport:
+    """Tessellate one PartSpec and, for a printed part, write its STL, 3MF and STEP in print orientation."""
+    e = p.export
+    mesh = tessellate(spec.solid, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg)
+    files: dict[str, bytes] = {}
+    size = tuple(float(v) for v in (mesh.bbox_mm[1] - mesh.bbox_mm[0]))
+    if spec.printed:
+        m = print_transform(mesh, spec.print_rotation, p.print.bed_x_mm, p.print.bed_y_mm)
+        pm = mesh.transformed(m)
+        size = tuple(float(v) for v in (pm.bbox_mm[1] - pm.bbox_mm[0]))
+        files[".stl"] = stl_bytes(pm, spec.label)
+        files[".3mf"] = threemf_bytes(pm, spec.label)
+        files[".step"] = step_bytes(move_shape(spec.solid, m), spec.label)
+    return PartExport(mesh, float(spec.solid.volume), float(spec.solid.area), size, files)

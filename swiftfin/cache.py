@@ -1,0 +1,307 @@
+"""Rebuild cache: a part family's output is reused when nothing it depends on has changed.
+
+What a family depends on is *measured*, not declared: while the family runs (and while its parts are exported)
+it sees the parameters through :class:`RecordingParams`, a read-only proxy that records every dotted key read
+(``spool.drum_diameter_mm``; a list field such as ``joints.stations_fraction`` or ``components`` is recorded
+whole). The cache key of a run is
+
+    family name + tool version + hash of the source of the family's module and every project module it
+    imports (transitively) + the exporter's source  ->  "source key"
+    source key + the recorded (key, value) pairs  ->  entry key
+
+Because a family is a pure function of the values it reads, a run with the same source and the same values
+at the recorded keys takes the same path through the code and reads the same keys, so the key-set recorded
+by an earlier run can be looked up first (``keysets.json`` under the source key; ccache's "manifest" mode).
+
+Layout of a cache directory (default ``.cache/swiftfin/`` under the working directory; ``SWIFTFIN_CACHE_DIR``
+overrides it)::
+
+    <family>/<source key>/keysets.json
+    <family>/<source key>/<entry key>/entry.pkl      PartSpecs without solids, meshes, exported bytes
+    <family>/<source key>/<entry key>/<label>.brep   each solid (OpenCascade BREP, no triangulation)
+    assembly-pairs/<xx>/<pair key>                   assembly-check pairs that passed (cad/assembly.py)
+
+Storing an entry deletes the family's entries made by other versions of its source (unreachable).
+
+Entries are written to a temporary folder and renamed into place, so an interrupted build never leaves a
+half-written entry. The cache only ever holds what this program wrote; delete the folder to clear it.
+"""
+from __future__ import annotations
+
+import ast
+import dataclasses
+import hashlib
+import importlib.util
+import json
+import os
+import pickle
+import shutil
+import tempfile
+from pathlib import Path
+from typing import Any
+
+from swiftfin import __version__
+from swiftfin.params import get_key
+
+PROJECT_PACKAGES = ("cad", "physics", "swiftfin", "exports", "design_rules")
+CACHE_ENV = "SWIFTFIN_CACHE_DIR"
+DEFAULT_CACHE_DIR = Path(".cache") / "swiftfin"
+FORMAT = 1  # bump when the layout of an entry changes
+
+
+# --------------------------------------------------------------------------------------------- recording
+def _canonical(value: Any) -> Any:
+    """JSON-able form of a parameter value (dataclasses as dicts, tuples as lists)."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {f.name: _canonical(getattr(value, f.name)) for f in dataclasses.fields(value)}
+    if isinstance(value, (tuple, list)):
+        return [_canonical(v) for v in value]
+    return value
+
+
+class RecordingParams:
+    """Read-only view of a frozen Params (or one of its sections) that records every key read into ``reads``.
+
+    ``isinstance(view, Params)`` holds; the view is hashable by identity and equal only to itself, so no
+    memo keyed on params can hand a family a value computed without recording its reads.
+    """
+
+    __slots__ = ("_obj", "_prefix", "_reads")
+
+    def __init__(self, obj: Any, reads: dict[str, Any], prefix: str = ""):
+        object.__setattr__(self, "_obj", obj)
+        object.__setattr__(self, "_prefix", prefix)
+        object.__setattr__(self, "_reads", reads)
+
+    @property
+    def __class__(self):  # noqa: D105  isinstance() sees the wrapped class
+        return type(object.__getattribute__(self, "_obj"))
+
+    def __getattr__(self, name: str) -> Any:
+        obj = object.__getattribute__(self, "_obj")
+        value = getattr(obj, name)
+        if name.startswith("__"):
+            return value
+        key = object.__getattribute__(self, "_prefix") + name
+        reads = object.__getattribute__(self, "_reads")
+        if dataclasses.is_dataclass(value) and not isinstance(value, type):
+            return _view(value, reads, key + ".")
+        if not callable(value):
+            reads[key] = _canonical(value)
+        return value
+
+    def __setattr__(self, name, value):
+        raise dataclasses.FrozenInstanceError(f"cannot assign to field '{name}'")
+
+    def __repr__(self) -> str:
+        return f"RecordingParams({object.__getattribute__(self, '_obj')!r})"
+
+    __hash__ = object.__hash__
+
+    def __eq__(self, other) -> bool:
+        return self is other
+
+
+_VIEW_CLASSES: dict[type, type] = {}
+
+
+def _view(obj: Any, reads: dict[str, Any], prefix: str = "") -> RecordingParams:
+    """A RecordingParams whose class carries the dataclass's fields, so that dataclasses.replace / fields /
+    asdict accept it (they read every field through the view, so every field is recorded)."""
+    cls = type(obj)
+    view_cls = _VIEW_CLASSES.get(cls)
+    if view_cls is None:
+        view_cls = type(f"Recording{cls.__name__}", (RecordingParams,),
+                        {"__slots__": (), "__dataclass_fields__": cls.__dataclass_fields__,
+                         "__dataclass_params__": cls.__dataclass_params__})
+        _VIEW_CLASSES[cls] = view_cls
+    return view_cls(obj, reads, prefix)
+
+
+def record_reads(params) -> tuple[RecordingParams, dict[str, Any]]:
+    reads: dict[str, Any] = {}
+    return _view(params, reads), reads
+
+
+# --------------------------------------------------------------------------------------------- source hash
+def _module_file(name: str) -> Path | None:
+    if name.split(".")[0] not in PROJECT_PACKAGES:
+        return None
+    try:
+        spec = importlib.util.find_spec(name)
+    except (ImportError, ValueError):
+        return None
+    if spec is None or not spec.origin or not spec.origin.endswith(".py"):
+        return None
+    return Path(spec.origin)
+
+
+def _imports(name: str, path: Path) -> set[str]:
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+    out: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out.update(a.name for a in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[: len(base) - node.level + 1] if node.level > 1 else base
+                mod = ".".join(base + ([node.module] if node.module else []))
+            else:
+                mod = node.module or ""
+            out.add(mod)
+            out.update(f"{mod}.{a.name}" for a in node.names)  # "from cad import hull" imports a module
+    return out
+
+
+def module_closure(*names: str) -> dict[str, Path]:
+    """Every project module the given modules import, transitively (static: from the source's import lines)."""
+    todo, seen = list(names), {}
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        path = _module_file(name)
+        if path is None:
+            continue
+        seen[name] = path
+        todo.extend(sorted(_imports(name, path) - set(seen)))
+    return seen
+
+
+def source_hash(*module_names: str) -> str:
+    h = hashlib.sha256()
+    for name, path in sorted(module_closure(*module_names).items()):
+        h.update(name.encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+# --------------------------------------------------------------------------------------------- store
+def default_cache_dir() -> Path:
+    env = os.environ.get(CACHE_ENV)
+    return Path(env) if env else Path.cwd() / DEFAULT_CACHE_DIR
+
+
+def _json_hash(obj: Any) -> str:
+    return hashlib.sha256(json.dumps(obj, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
+class FamilyCache:
+    """Entries of one cache directory. ``lookup`` then (on a miss) ``store``."""
+
+    def __init__(self, root: str | Path | None = None):
+        self.root = Path(root) if root is not None else default_cache_dir()
+
+    def source_key(self, family: str, modules: tuple[str, ...]) -> str:
+        return _json_hash([FORMAT, family, __version__, source_hash(*modules)])[:32]
+
+    def _dir(self, family: str, skey: str) -> Path:
+        return self.root / family / skey
+
+    def _keysets(self, family: str, skey: str) -> list[list[str]]:
+        f = self._dir(family, skey) / "keysets.json"
+        try:
+            return json.loads(f.read_text())
+        except (OSError, ValueError):
+            return []
+
+    def _forget_other_sources(self, family: str, skey: str) -> None:
+        """Entries made by other versions of the family's source are unreachable: delete them, so the cache
+        grows with the designs built, not with every edit of the code."""
+        for d in (self.root / family).iterdir():
+            if d.is_dir() and d.name != skey and not d.name.startswith("."):
+                shutil.rmtree(d, ignore_errors=True)
+
+    @staticmethod
+    def entry_key(reads: dict[str, Any]) -> str:
+        return _json_hash(sorted(reads.items()))[:32]
+
+    def lookup(self, family: str, skey: str, params) -> tuple[str, Any] | None:
+        """(entry key, payload) of a stored run whose recorded keys have the same values in ``params``."""
+        for keyset in self._keysets(family, skey):
+            try:
+                reads = {k: _canonical(get_key(params, k)) for k in keyset}
+            except AttributeError:
+                continue
+            ekey = self.entry_key(reads)
+            d = self._dir(family, skey) / ekey
+            try:
+                with (d / "entry.pkl").open("rb") as fh:
+                    payload = pickle.load(fh)
+            except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError):
+                continue
+            return ekey, (d, payload)
+        return None
+
+    def store(self, family: str, skey: str, reads: dict[str, Any], payload: Any,
+              breps: dict[str, bytes]) -> str:
+        """Write one entry atomically and add its key-set to the family's list. Returns the entry key."""
+        ekey = self.entry_key(reads)
+        base = self._dir(family, skey)
+        base.mkdir(parents=True, exist_ok=True)
+        final = base / ekey
+        if not final.exists():
+            tmp = Path(tempfile.mkdtemp(prefix=f".{ekey}.", dir=base))
+            try:
+                for label, data in breps.items():
+                    (tmp / f"{label}.brep").write_bytes(data)
+                with (tmp / "entry.pkl").open("wb") as fh:
+                    pickle.dump(payload, fh, protocol=pickle.HIGHEST_PROTOCOL)
+                os.replace(tmp, final)
+            except OSError:
+                shutil.rmtree(tmp, ignore_errors=True)
+                if not final.exists():
+                    raise
+        self._forget_other_sources(family, skey)
+        keyset = sorted(reads)
+        sets = self._keysets(family, skey)
+        if keyset not in sets:
+            sets.append(keyset)
+            fd, tmpname = tempfile.mkstemp(prefix=".keysets.", dir=base)
+            with os.fdopen(fd, "w") as fh:
+                json.dump(sets, fh, indent=1)
+            os.replace(tmpname, base / "keysets.json")
+        return ekey
+
+
+# --------------------------------------------------------------------------------------------- BREP
+def brep_bytes(shape) -> bytes:
+    """OpenCascade BREP text of a shape, without triangulation (so it does not depend on earlier meshing)."""
+    from OCP.BRepTools import BRepTools
+
+    topo = getattr(shape, "wrapped", shape)
+    with tempfile.NamedTemporaryFile(suffix=".brep", delete=False) as fh:
+        name = fh.name
+    try:
+        BRepTools.Clean_s(topo)
+        if not BRepTools.Write_s(topo, name):
+            raise RuntimeError("BREP write failed")
+        return Path(name).read_bytes()
+    finally:
+        os.unlink(name)
+
+
+def brep_roundtrip(shape, label: str):
+    """The shape as it comes back from its BREP text: what a cached build sees. Building every output from
+    this form makes a cold build and a cached one byte-identical (the text form normalises e.g. -0.0)."""
+    data = brep_bytes(shape)
+    with tempfile.NamedTemporaryFile(suffix=".brep", delete=False) as fh:
+        fh.write(data)
+        name = fh.name
+    try:
+        return shape_from_brep(Path(name), label), data
+    finally:
+        os.unlink(name)
+
+
+def shape_from_brep(path: Path, label: str):
+    """The build123d shape stored in a BREP file, with its label."""
+    import build123d as bd
+
+    shape = bd.import_brep(str(path))
+    solids = shape.solids() if hasattr(shape, "solids") else []
+    if len(solids) == 1 and not isinstance(shape, bd.Solid):
+        shape = solids[0]
+    shape.label = label
+    return shape

@@ -1,0 +1,282 @@
+"""The build: parameters -> every part family -> exports -> assembly checks -> files, written atomically.
+
+``build(params_file, out_dir)`` is what ``swiftfin build`` runs:
+
+1. load and check the design (a bad file raises ParamError before anything is written);
+2. run each family of cad/registry.py (through the rebuild cache, swiftfin/cache.py), check its parts (one
+   valid solid each, unique snake_case labels, printed parts fit the bed), tessellate each part and write
+   its STL, 3MF and STEP in print orientation (exports/files.py);
+3. check the assembly (cad/assembly.py: clearances over the range of motion, contacts, inside the hull);
+4. write ``parts/<label>.{step,stl,3mf}``, ``assembly.step`` (every part at rest, product names = labels)
+   and ``manifest.json`` into a temporary folder beside ``out_dir`` and move it into place at the end, so an
+   interrupted or failed build never leaves a half-written ``out_dir`` (nor a temporary folder).
+"""
+from __future__ import annotations
+
+import dataclasses
+import os
+import re
+import shutil
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+from cad.part import PartSpec
+from cad.registry import FAMILIES, family_function
+from exports.manifest import MANIFEST_NAME, make_manifest, manifest_text, sha256_bytes
+from swiftfin.cache import FamilyCache, brep_roundtrip, record_reads, shape_from_brep
+from swiftfin.config import load_design
+from swiftfin.errors import BuildError, UserError
+from swiftfin.schema import Params
+
+LABEL_RE = re.compile(r"^[a-z][a-z0-9_]*$")
+FILE_KINDS = (".step", ".stl", ".3mf")
+
+
+@dataclass
+class BuiltPart:
+    spec: PartSpec
+    export: object              # exports.files.PartExport
+    time_s: float
+    cached: bool
+
+
+@dataclass
+class BuildResult:
+    params: Params
+    parts: list[BuiltPart]
+    family_times_s: dict[str, float] = field(default_factory=dict)
+    check_time_s: float = 0.0
+    assembly_stats: dict = field(default_factory=dict)
+
+
+def _one_solid(spec: PartSpec):
+    """The part's solid as one build123d Solid (a one-solid compound is unwrapped); BuildError otherwise."""
+    import build123d as bd
+
+    shape = spec.solid
+    solids = shape.solids() if hasattr(shape, "solids") else []
+    if len(solids) != 1:
+        raise BuildError(f"{spec.label} ({spec.family}): expected one solid, got {len(solids)}")
+    solid = solids[0] if not isinstance(shape, bd.Solid) else shape
+    if not solid.is_valid:
+        raise BuildError(f"{spec.label} ({spec.family}): the solid is not valid (OpenCascade BRepCheck)")
+    if solid.volume <= 0:
+        raise BuildError(f"{spec.label} ({spec.family}): the solid has no volume")
+    solid.label = spec.label
+    return solid
+
+
+def _check_spec(spec, family: str) -> PartSpec:
+    if not isinstance(spec, PartSpec):
+        raise BuildError(f"part family '{family}' returned {type(spec).__name__}, not a PartSpec")
+    if not LABEL_RE.match(spec.label):
+        raise BuildError(f"part family '{family}': label {spec.label!r} is not snake_case")
+    return dataclasses.replace(spec, solid=_one_solid(spec))
+
+
+def _check_bed(spec: PartSpec, size, p: Params) -> None:
+    if not spec.printed:
+        return
+    x, y, z = size
+    pr = p.print
+    fits_xy = (x <= pr.bed_x_mm and y <= pr.bed_y_mm) or (y <= pr.bed_x_mm and x <= pr.bed_y_mm)
+    if not fits_xy or z > pr.bed_z_mm:
+        raise BuildError(f"{spec.label}: {x:.1f} x {y:.1f} x {z:.1f} mm in its print orientation does not fit "
+                         f"the printer ({pr.bed_x_mm:g} x {pr.bed_y_mm:g} x {pr.bed_z_mm:g} mm, print.bed_*_mm)")
+
+
+def family_modules(name: str) -> tuple[str, ...]:
+    """Source modules a family's cached output depends on (their imports are followed by the cache)."""
+    return (FAMILIES[name].split(":")[0], "exports.files", "cad.part", "swiftfin.pipeline")
+
+
+def run_family(name: str, p: Params, cache: FamilyCache | None) -> tuple[list[BuiltPart], float]:
+    """Build (or fetch from the cache) one family's parts with their exports. Returns (parts, seconds)."""
+    from exports.files import export_part
+
+    t0 = time.perf_counter()
+    skey = None
+    if cache is not None:
+        skey = cache.source_key(name, family_modules(name))
+        hit = cache.lookup(name, skey, p)
+        if hit is not None:
+            _, (folder, payload) = hit
+            out = []
+            for item in payload:
+                spec = PartSpec(solid=shape_from_brep(folder / f"{item['label']}.brep", item["label"]),
+                                **item["spec"])
+                out.append(BuiltPart(spec, item["export"], 0.0, True))
+            dt = time.perf_counter() - t0
+            for b in out:
+                b.time_s = dt / max(len(out), 1)
+            return out, dt
+    func = family_function(name)
+    view, reads = record_reads(p)
+    try:
+        specs = func(view)
+    except (BuildError, UserError):
+        raise
+    except Exception as exc:  # a part family that cannot make its solid for this design
+        raise BuildError(f"part family '{name}' failed: {type(exc).__name__}: {exc}") from exc
+    t_family = time.perf_counter() - t0
+    specs = [_check_spec(s, name) for s in specs]
+    breps: dict[str, bytes] = {}
+    for i, spec in enumerate(specs):  # every output is made from the solid as the cache would return it
+        solid, breps[spec.label] = brep_roundtrip(spec.solid, spec.label)
+        specs[i] = dataclasses.replace(spec, solid=solid)
+    out = []
+    for spec in specs:
+        t1 = time.perf_counter()
+        exp = export_part(spec, view)
+        _check_bed(spec, exp.print_size_mm, p)
+        out.append(BuiltPart(spec, exp, t_family / max(len(specs), 1) + time.perf_counter() - t1, False))
+    if cache is not None:
+        payload = [{"label": b.spec.label,
+                    "spec": {f.name: getattr(b.spec, f.name) for f in dataclasses.fields(PartSpec)
+                             if f.name != "solid"},
+                    "export": b.export} for b in out]
+        cache.store(name, skey, reads, payload, breps)
+    return out, time.perf_counter() - t0
+
+
+def build_parts(p: Params, cache: FamilyCache | None = None,
+                progress: Callable[[str], None] | None = None, families: tuple[str, ...] | None = None
+                ) -> BuildResult:
+    """Every family's parts, checked and exported (not yet written)."""
+    result = BuildResult(p, [])
+    seen: dict[str, str] = {}
+    for name in families or tuple(FAMILIES):
+        parts, dt = run_family(name, p, cache)
+        result.family_times_s[name] = dt
+        for b in parts:
+            if b.spec.label in seen:
+                raise BuildError(f"two parts are labelled {b.spec.label!r} (families '{seen[b.spec.label]}' "
+                                 f"and '{name}')")
+            seen[b.spec.label] = name
+            result.parts.append(b)
+            if progress:
+                progress(f"  {len(result.parts):>3}  {b.spec.label:<28} {name:<7} link {b.spec.link}  "
+                         f"{b.time_s:6.2f} s{'  (cached)' if b.cached else ''}")
+    return result
+
+
+def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=None) -> None:
+    from cad.assembly import PassedPairs, Placed, check_assembly
+
+    t0 = time.perf_counter()
+    placed = [Placed(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
+              for b in result.parts]
+    passed = PassedPairs(cache.root / "assembly-pairs") if cache is not None else None
+    result.assembly_stats = check_assembly(result.params, placed, progress=progress, passed=passed)
+    result.check_time_s = time.perf_counter() - t0
+
+
+# --------------------------------------------------------------------------------------------- writing
+def assembly_step(result: BuildResult) -> bytes:
+    from cad.assembly import make_assembly
+    from exports.files import step_bytes
+
+    return step_bytes(make_assembly([b.spec for b in result.parts]), "swiftfin_assembly")
+
+
+def write_outputs(result: BuildResult, folder: Path, params_file: Path) -> dict:
+    """Write every file of the build into ``folder`` (which exists and is empty). Returns the manifest."""
+    (folder / "parts").mkdir()
+    files = []
+    parts = []
+    for b in result.parts:
+        entry = {"label": b.spec.label, "family": b.spec.family, "link": b.spec.link, "printed": b.spec.printed,
+                 "volume_mm3": round(b.export.volume_mm3, 3),
+                 "print_size_mm": [round(v, 3) for v in b.export.print_size_mm], "files": []}
+        for kind in FILE_KINDS:
+            data = b.export.files.get(kind)
+            if data is None:
+                continue
+            rel = f"parts/{b.spec.label}{kind}"
+            (folder / rel).write_bytes(data)
+            files.append({"path": rel, "sha256": sha256_bytes(data), "bytes": len(data)})
+            entry["files"].append(rel)
+        parts.append(entry)
+    data = assembly_step(result)
+    (folder / "assembly.step").write_bytes(data)
+    files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
+    manifest = make_manifest(files, parts, params_file)
+    (folder / MANIFEST_NAME).write_text(manifest_text(manifest))
+    return manifest
+
+
+def _swap_into_place(tmp: Path, out: Path) -> None:
+    """Move the finished folder to ``out``; an old ``out`` is replaced (kept until the new one is in place)."""
+    if out.exists() or out.is_symlink():
+        if not out.is_dir():
+            raise UserError(f"{out} exists and is not a folder; choose another --out")
+        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
+        os.rename(out, old / out.name)
+        try:
+            os.rename(tmp, out)
+        except OSError:
+            os.rename(old / out.name, out)  # put the old build back
+            raise
+        shutil.rmtree(old, ignore_errors=True)
+    else:
+        os.rename(tmp, out)
+
+
+def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | None = None,
+          progress: Callable[[str], None] | None = None) -> BuildResult:
+    """Build the design in ``params_file`` into ``out_dir`` (see the module docstring)."""
+    params_file = Path(params_file)
+    p = load_design(params_file)  # ParamError -> exit 2, nothing written
+    out = Path(out_dir)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UserError(f"cannot create the output folder's parent {out.parent}: {exc}") from None
+    result = build_parts(p, cache, progress)
+    if progress:
+        progress("  checking the assembly over the joints' range of motion ...")
+    check_built(result, cache, progress)
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)  # mkdtemp makes it private; the build folder is an ordinary folder
+    except OSError as exc:
+        raise UserError(f"cannot write beside {out}: {exc}") from None
+    try:
+        write_outputs(result, tmp, params_file)
+        _swap_into_place(tmp, out)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return result
+
+
+def summary_table(result: BuildResult) -> str:
+    rows = [("part", "family", "link", "volume cm^3", "bbox mm (print)", "time s", "cached")]
+    for b in result.parts:
+        sx, sy, sz = b.export.print_size_mm
+        rows.append((b.spec.label, b.spec.family, str(b.spec.link), f"{b.export.volume_mm3 / 1000:.2f}",
+                     f"{sx:.1f} x {sy:.1f} x {sz:.1f}", f"{b.time_s:.2f}", "yes" if b.cached else "no"))
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+    lines = ["  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths)))
+             for r in rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    n_print = sum(b.spec.printed for b in result.parts)
+    lines.append(f"{len(result.parts)} parts ({n_print} printed); families "
+                 f"{sum(result.family_times_s.values()):.1f} s, assembly checks {result.check_time_s:.1f} s")
+    st = result.assembly_stats
+    if st:
+        lines.append(f"assembly checks passed: {st['pairs']} pairs keep print.clearance_assembly_mm over the joints' "
+                     f"range, {st['contact_pairs']} declared contacts do not interpenetrate, {st['inside_checked']} "
+                     f"internal parts inside the hull ({st['pairs_remembered']} pair results remembered from earlier "
+                     f"builds of the same parts)")
+    return "\n".join(lines)
+
+
+def stderr_progress(msg: str) -> None:
+    print(msg, file=sys.stderr, flush=True)

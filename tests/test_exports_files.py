@@ -1,0 +1,204 @@
+"""STL / 3MF / STEP writers: closed forms on a known solid, then every part of the default design."""
+from __future__ import annotations
+
+import io
+import math
+import zipfile
+
+import build123d as bd
+import lib3mf
+import manifold3d
+import numpy as np
+import pytest
+import trimesh
+
+from exports.files import (Mesh, export_part, is_closed, print_transform, rotation_matrix, step_bytes, stl_bytes,
+                           tessellate, threemf_bytes)
+from exports.manifest import verify_manifest
+from swiftfin.cache import FamilyCache
+from swiftfin.pipeline import build_parts, write_outputs
+from swiftfin.schema import Params
+from tests.conftest import DEFAULT_DESIGN
+
+F32_SLACK_MM = 1e-4  # float32 rounding of STL/3MF coordinates (< 500 mm x 2^-24 = 3e-5 mm)
+
+
+def tube(r_out=10.0, r_in=4.0, h=20.0):
+    return bd.Cylinder(r_out, h) - bd.Cylinder(r_in, h)
+
+
+def volume_bound_mm3(area_mm2: float, tol_mm: float) -> float:
+    """Every triangle lies within the linear deflection ``tol`` of the surface, so the volume between mesh and
+    B-rep is at most area x tol (plus the float32 rounding of the file's coordinates)."""
+    return area_mm2 * (tol_mm + F32_SLACK_MM)
+
+
+def read_3mf(data: bytes, tmp_path) -> Mesh:
+    """Read a 3MF with lib3mf (the 3MF consortium's reference library)."""
+    path = tmp_path / "x.3mf"
+    path.write_bytes(data)
+    model = lib3mf.get_wrapper().CreateModel()
+    model.QueryReader("3mf").ReadFromFile(str(path))
+    it = model.GetMeshObjects()
+    assert it.MoveNext()
+    obj = it.GetCurrentMeshObject()
+    assert not it.MoveNext(), "one object per part"
+    v = np.array([p.Coordinates[0:3] for p in obj.GetVertices()], dtype=float)
+    f = np.array([t.Indices[0:3] for t in obj.GetTriangleIndices()], dtype=np.int64)
+    return Mesh(v, f)
+
+
+def read_stl(data: bytes) -> trimesh.Trimesh:
+    return trimesh.load(io.BytesIO(data), file_type="stl")
+
+
+def manifold_ok(m: trimesh.Trimesh) -> bool:
+    mm = manifold3d.Mesh(vert_properties=np.asarray(m.vertices, dtype=np.float32),
+                         tri_verts=np.asarray(m.faces, dtype=np.uint32))
+    return manifold3d.Manifold(mm).status() == manifold3d.Error.NoError
+
+
+# --------------------------------------------------------------------------------------------- closed forms
+@pytest.mark.parametrize("tol", [0.2, 0.05, 0.01])
+def test_tessellated_tube_volume_within_area_times_tolerance(tol):
+    solid = tube()
+    exact = math.pi * (10**2 - 4**2) * 20
+    assert solid.volume == pytest.approx(exact, rel=1e-9)
+    m = tessellate(solid, tol, 10.0)
+    assert is_closed(m)
+    assert abs(m.volume_mm3 - exact) <= volume_bound_mm3(solid.area, tol)
+    assert m.volume_mm3 < exact  # chords of a convex outer circle cut inside it: the mesh is smaller
+
+
+def test_print_orientation_rotates_then_drops_onto_the_bed_centre():
+    solid = bd.Box(30, 10, 4).moved(bd.Location((-100, 7, 3)))
+    m = tessellate(solid, 0.05, 10.0)
+    # build123d Rotation(90, 0, 0): +y -> +z, so the 10 mm side stands up
+    r = rotation_matrix((90, 0, 0))
+    assert r[:3, :3] @ [0, 1, 0] == pytest.approx([0, 0, 1], abs=1e-12)
+    t = print_transform(m, (90, 0, 0), 250, 210)
+    lo, hi = m.transformed(t).bbox_mm
+    assert lo[2] == pytest.approx(0.0, abs=1e-9)
+    assert hi - lo == pytest.approx([30, 4, 10], abs=1e-9)
+    assert (lo + hi)[:2] / 2 == pytest.approx([125, 105], abs=1e-9)
+
+
+def test_writers_are_deterministic_and_read_back(tmp_path):
+    solid = tube()
+    m = tessellate(solid, 0.05, 10.0)
+    m2 = tessellate(tube(), 0.05, 10.0)
+    assert stl_bytes(m, "tube") == stl_bytes(m2, "tube")
+    assert threemf_bytes(m, "tube") == threemf_bytes(m2, "tube")
+    stl = read_stl(stl_bytes(m, "tube"))
+    assert stl.is_watertight and stl.is_winding_consistent and manifold_ok(stl)
+    assert stl.volume == pytest.approx(m.volume_mm3, rel=1e-5)
+    tm = read_3mf(threemf_bytes(m, "tube"), tmp_path)
+    assert tm.volume_mm3 == pytest.approx(m.volume_mm3, rel=1e-6)
+    with zipfile.ZipFile(io.BytesIO(threemf_bytes(m, "tube"))) as z:
+        assert {i.date_time for i in z.infolist()} == {(1980, 1, 1, 0, 0, 0)}
+        assert 'unit="millimeter"' in z.read("3D/3dmodel.model").decode()
+    step = tmp_path / "tube.step"
+    step.write_bytes(step_bytes(solid, "tube"))
+    back = bd.import_step(str(step))
+    assert back.volume == pytest.approx(solid.volume, rel=1e-6)
+    assert "PRODUCT('tube'" in step.read_text()
+
+
+def test_step_is_in_millimetres(tmp_path):
+    step = tmp_path / "b.step"
+    step.write_bytes(step_bytes(bd.Box(10, 20, 30), "b"))
+    text = step.read_text()
+    assert "SI_UNIT(.MILLI.,.METRE.)" in text
+    assert bd.import_step(str(step)).bounding_box().size.Z == pytest.approx(30, abs=1e-6)
+
+
+# --------------------------------------------------------------------------------------------- the default design
+@pytest.fixture(scope="module")
+def default_build(default_params, tmp_path_factory):
+    """Every part of the default design, exported and written (the assembly checks are test_assembly's)."""
+    cache = FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache")
+    result = build_parts(default_params, cache)
+    folder = tmp_path_factory.mktemp("default-build")
+    write_outputs(result, folder, DEFAULT_DESIGN)
+    return result, folder
+
+
+def _printed(result):
+    return [b for b in result.parts if b.spec.printed]
+
+
+def test_every_stl_is_watertight_manifold_and_matches_the_brep(default_build):
+    result, folder = default_build
+    tol = result.params.export.mesh_tolerance_mm
+    assert _printed(result)
+    for b in _printed(result):
+        stl = read_stl((folder / "parts" / f"{b.spec.label}.stl").read_bytes())
+        assert stl.is_watertight and stl.is_winding_consistent, b.spec.label
+        assert manifold_ok(stl), b.spec.label
+        dv = abs(stl.volume - b.export.volume_mm3)
+        assert dv <= volume_bound_mm3(b.export.area_mm2, tol), (b.spec.label, dv, b.export.area_mm2 * tol)
+        assert stl.bounds[0][2] == pytest.approx(0.0, abs=1e-4), f"{b.spec.label} not on the bed"
+
+
+def test_every_3mf_reads_back_with_the_same_volume(default_build, tmp_path):
+    result, folder = default_build
+    for b in _printed(result):
+        m = read_3mf((folder / "parts" / f"{b.spec.label}.3mf").read_bytes(), tmp_path)
+        assert is_closed(m), b.spec.label
+        stl = read_stl((folder / "parts" / f"{b.spec.label}.stl").read_bytes())
+        assert m.volume_mm3 == pytest.approx(stl.volume, rel=1e-5), b.spec.label
+
+
+def test_every_step_reimports_with_the_brep_volume(default_build):
+    result, folder = default_build
+    for b in _printed(result):
+        back = bd.import_step(str(folder / "parts" / f"{b.spec.label}.step"))
+        assert back.volume == pytest.approx(b.export.volume_mm3, rel=1e-6), b.spec.label
+        assert len(back.solids()) == 1, b.spec.label
+
+
+def test_assembly_step_holds_every_part_by_name(default_build):
+    result, folder = default_build
+    text = (folder / "assembly.step").read_text()
+    for b in result.parts:
+        assert f"PRODUCT('{b.spec.label}'" in text, b.spec.label
+    back = bd.import_step(str(folder / "assembly.step"))
+    assert len(back.solids()) == len(result.parts)
+    assert back.volume == pytest.approx(sum(b.export.volume_mm3 for b in result.parts), rel=1e-6)
+
+
+def test_manifest_hashes_match_the_files(default_build, tmp_path):
+    result, folder = default_build
+    assert verify_manifest(folder) == []
+    # and the check can fail: one changed byte is found
+    import shutil
+    copy = tmp_path / "copy"
+    shutil.copytree(folder, copy)
+    stl = next((copy / "parts").glob("*.stl"))
+    data = bytearray(stl.read_bytes())
+    data[100] ^= 1
+    stl.write_bytes(bytes(data))
+    assert verify_manifest(copy) == [f"parts/{stl.name}: SHA-256 or size differs from the manifest"]
+
+
+@pytest.mark.slow
+def test_two_cold_builds_give_the_same_stl_and_3mf_bytes(default_build, default_params):
+    """No cache: every part built and exported afresh must give the same bytes."""
+    result, _ = default_build
+    fresh = build_parts(default_params, cache=None)
+    assert [b.spec.label for b in fresh.parts] == [b.spec.label for b in result.parts]
+    for a, b in zip(result.parts, fresh.parts):
+        for kind in (".stl", ".3mf"):
+            assert a.export.files.get(kind) == b.export.files.get(kind), (a.spec.label, kind)
+
+
+def test_export_part_files_only_for_printed_parts():
+    from cad.part import PartSpec
+
+    p = Params()
+    solid = bd.Box(10, 10, 10)
+    printed = export_part(PartSpec("cube", solid, 0, "test"), p)
+    bought = export_part(PartSpec("cube", solid, 0, "test", printed=False), p)
+    assert set(printed.files) == {".stl", ".3mf", ".step"}
+    assert bought.files == {}
+    assert bought.mesh.volume_mm3 == pytest.approx(1000.0, rel=1e-9)

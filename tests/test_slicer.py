@@ -1,0 +1,113 @@
+"""PrusaSlicer wrapper: G-code summary parsing, settings passed through, and every printed part slices."""
+from __future__ import annotations
+
+import math
+
+import build123d as bd
+import pytest
+
+from exports.files import print_transform, stl_bytes, tessellate
+from exports.slicer import SlicerError, parse_duration_s, parse_gcode_summary, slice_stl, slicer_args
+from swiftfin.cache import FamilyCache
+from swiftfin.params import replace_key
+from swiftfin.pipeline import build_parts
+from swiftfin.schema import Params
+from tests.conftest import require_tool
+
+WHY = "slicing every printed part checks that the STLs print (issue 2, item 6)"
+
+GCODE_TAIL = """G1 X10 Y10 E0.5
+; filament used [mm] = 1000.00
+; filament used [cm3] = 2.41
+; filament used [g] = 2.98
+; total filament used [g] = 2.98
+; estimated printing time (normal mode) = 1d 2h 3m 4s
+; estimated first layer printing time (normal mode) = 1m 2s
+"""
+
+
+def test_parse_gcode_summary_hand_worked():
+    r = parse_gcode_summary(GCODE_TAIL, 1.75, "x.stl")
+    assert r.filament_mm == 1000.0
+    assert r.filament_mm3 == pytest.approx(1000.0 * math.pi * 0.875**2)   # 2405.28 mm^3
+    assert r.filament_cm3_reported == 2.41 and r.filament_g == 2.98
+    assert r.print_time_s == 86400 + 2 * 3600 + 3 * 60 + 4
+
+
+def test_parse_rejects_gcode_without_summary():
+    with pytest.raises(SlicerError, match="no filament/time summary"):
+        parse_gcode_summary("G1 X0\n", 1.75, "x.stl")
+    assert parse_duration_s("47s") == 47.0
+    with pytest.raises(SlicerError):
+        parse_duration_s("soon")
+
+
+def test_slicer_args_carry_the_print_section():
+    p = replace_key(Params(), "print.infill_fraction", 0.35)
+    args = slicer_args(p)
+    opt = dict(zip(args[::2], args[1::2]))
+    assert opt["--fill-density"] == "35%"
+    assert opt["--layer-height"] == "0.2" and opt["--perimeters"] == "3"
+    assert opt["--top-solid-layers"] == "5" and opt["--bottom-solid-layers"] == "4"
+    assert opt["--fill-pattern"] == "gyroid"
+    assert opt["--nozzle-diameter"] == "0.4" and opt["--filament-diameter"] == "1.75"
+    assert opt["--bed-shape"] == "0x0,250x0,250x210,0x210"
+    assert opt["--perimeter-extrusion-width"] == "0.45"
+
+
+def _cube_stl(tmp_path, side=20.0):
+    m = tessellate(bd.Box(side, side, side), 0.05, 10.0)
+    m = m.transformed(print_transform(m, (0, 0, 0), 250, 210))
+    path = tmp_path / "cube.stl"
+    path.write_bytes(stl_bytes(m, "cube"))
+    return path
+
+
+@pytest.mark.slicer
+def test_cube_filament_follows_the_shell_and_infill_model(tmp_path):
+    """A 20 mm cube: walls 3 x 0.45 mm, 5 top + 4 bottom layers of 0.2 mm, sparse infill at f.
+    Solid shell V_s = 20^3 - (20 - 2.7)^2 (20 - 1.8) = 2553 mm^3, core V_c = 5447 mm^3, so the
+    filament is about V_s + f V_c; raising f from 20 % to 50 % must add about 0.3 V_c = 1634 mm^3."""
+    require_tool("prusa-slicer", WHY)
+    stl = _cube_stl(tmp_path)
+    p20 = Params()
+    p50 = replace_key(p20, "print.infill_fraction", 0.5)
+    r20 = slice_stl(stl, p20)
+    r50 = slice_stl(stl, p50)
+    core = (20 - 2 * 3 * 0.45) ** 2 * (20 - 9 * 0.2)
+    shell = 20**3 - core
+    assert r20.filament_mm3 == pytest.approx(shell + 0.2 * core, rel=0.15)
+    assert r50.filament_mm3 - r20.filament_mm3 == pytest.approx(0.3 * core, rel=0.2)
+    assert r50.print_time_s > r20.print_time_s > 0
+
+
+@pytest.mark.slicer
+def test_slicer_failure_is_a_clear_error(tmp_path):
+    require_tool("prusa-slicer", WHY)
+    bad = tmp_path / "broken.stl"
+    bad.write_bytes(b"solid nothing here\n")
+    with pytest.raises(SlicerError, match="broken.stl: prusa-slicer failed"):
+        slice_stl(bad, Params())
+    with pytest.raises(SlicerError, match="no such STL"):
+        slice_stl(tmp_path / "missing.stl", Params())
+
+
+@pytest.mark.slow
+@pytest.mark.slicer
+def test_every_printed_part_of_the_default_design_slices(default_params, tmp_path, tmp_path_factory):
+    require_tool("prusa-slicer", WHY)
+    result = build_parts(default_params, FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
+    rows = []
+    for b in result.parts:
+        if not b.spec.printed:
+            continue
+        stl = tmp_path / f"{b.spec.label}.stl"
+        stl.write_bytes(b.export.files[".stl"])
+        r = slice_stl(stl, default_params)
+        # the filament cannot exceed the solid part (plus the slicer's line overlap) nor vanish
+        assert 0.05 * b.export.volume_mm3 < r.filament_mm3 < 1.15 * b.export.volume_mm3, (b.spec.label, r)
+        rows.append((b.spec.label, b.export.volume_mm3, r.filament_mm3, r.print_time_s))
+    assert rows
+    print("\npart                         solid cm^3  filament cm^3  time min")
+    for label, v, f, t in rows:
+        print(f"{label:<28} {v / 1000:10.2f} {f / 1000:14.2f} {t / 60:9.1f}")
