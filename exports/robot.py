@@ -121,6 +121,10 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
     the tessellations already made for the STL files (tessellated here otherwise).
     """
     e = params.export
+    missing = sorted(set(range(params.joints.count + 1)) - {part.link for part in parts})
+    if missing:
+        raise BuildError(f"robot export: link(s) {', '.join(map(str, missing))} have no parts "
+                         f"(links 0..{params.joints.count} each need at least one part)")
     meshes = {k: as_trimesh(v) for k, v in (meshes or {}).items()}
     for part in parts:
         if part.label not in meshes:

@@ -183,8 +183,11 @@ def assembly_step(result: BuildResult) -> bytes:
     return step_bytes(make_assembly([b.spec for b in result.parts]), "swiftfin_assembly")
 
 
-def write_outputs(result: BuildResult, folder: Path, params_file: Path) -> dict:
-    """Write every file of the build into ``folder`` (which exists and is empty). Returns the manifest."""
+def write_outputs(result: BuildResult, folder: Path, params_file: Path,
+                  progress: Callable[[str], None] | None = None) -> dict:
+    """Write every file of the build into ``folder`` (which exists and is empty): the parts, the assembly, the
+    robot for the simulators with ``mass_properties.json`` (exports.robot) and ``report.html``. Returns the
+    manifest, which lists them all."""
     (folder / "parts").mkdir()
     files = []
     parts = []
@@ -204,9 +207,30 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path) -> dict:
     data = assembly_step(result)
     (folder / "assembly.step").write_bytes(data)
     files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
+    files += write_robot_and_report(result, folder, params_file, progress)
     manifest = make_manifest(files, parts, params_file)
     (folder / MANIFEST_NAME).write_text(manifest_text(manifest))
     return manifest
+
+
+def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
+                           progress: Callable[[str], None] | None = None) -> list[dict]:
+    """Mass properties with their validation gate, the simulator files (exports.robot) and report.html, into
+    ``folder``; returns their manifest entries. BuildError names the part or link that fails the gate."""
+    from exports.robot import write_robot
+    from report.html import report_for_build
+    if progress:
+        progress("  mass properties, validation gate and simulator files ...")
+    robot = write_robot(result.params, [b.spec for b in result.parts], folder,
+                        meshes={b.spec.label: b.export.mesh for b in result.parts})
+    if progress:
+        progress("  design report ...")
+    report_for_build(result, folder, params_file.name, progress=progress)
+    entries = []
+    for rel in sorted(robot["files"]) + ["report.html"]:
+        data = (folder / rel).read_bytes()
+        entries.append({"path": rel, "sha256": sha256_bytes(data), "bytes": len(data)})
+    return entries
 
 
 def _swap_into_place(tmp: Path, out: Path) -> None:
@@ -248,7 +272,7 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
     except OSError as exc:
         raise UserError(f"cannot write beside {out}: {exc}") from None
     try:
-        write_outputs(result, tmp, params_file)
+        write_outputs(result, tmp, params_file, progress)
         _swap_into_place(tmp, out)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)

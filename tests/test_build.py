@@ -91,6 +91,9 @@ def test_interrupted_write_leaves_no_folder(env, monkeypatch, capsys):
     (env / "design.toml").write_text(dump_toml())
     monkeypatch.setattr(registry, "FAMILIES", {"fin": registry.FAMILIES["fin"]})
     monkeypatch.setattr(pipeline, "FAMILIES", registry.FAMILIES)
+    # a fin-only "design" has no robot to export: this test is about the file mechanics; the robot, mass
+    # properties and report of the real design are checked in test_default_design_builds_end_to_end
+    monkeypatch.setattr(pipeline, "write_robot_and_report", lambda *a, **k: [])
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
@@ -105,6 +108,9 @@ def test_one_family_build_writes_files_and_manifest(env, monkeypatch, capsys):
     (env / "design.toml").write_text(dump_toml())
     monkeypatch.setattr(registry, "FAMILIES", {"fin": registry.FAMILIES["fin"]})
     monkeypatch.setattr(pipeline, "FAMILIES", registry.FAMILIES)
+    # a fin-only "design" has no robot to export: this test is about the file mechanics; the robot, mass
+    # properties and report of the real design are checked in test_default_design_builds_end_to_end
+    monkeypatch.setattr(pipeline, "write_robot_and_report", lambda *a, **k: [])
     (env / "out").mkdir()
     (env / "out" / "stale.stl").write_text("from an older build")
     assert main(["build", "design.toml", "--out", "out"]) == 0
@@ -140,6 +146,10 @@ def test_default_design_builds_end_to_end(env, capsys):
         assert part["files"] == expected
     assert verify_manifest(env / "build") == []
     assert leftovers(env) == []
+    listed = {f["path"] for f in manifest["files"]}
+    for rel in ("robot/swiftfin.urdf", "robot/swiftfin.xml", "robot/swiftfin.sdf", "mass_properties.json",
+                "report.html", "assembly.step"):
+        assert rel in listed and (env / "build" / rel).is_file()
     # a build without the cache (every solid made afresh in this process) lists the same files and hashes,
     # STEP included (fixed header dates, occurrence ids renumbered per file)
     assert main(["build", str(DEFAULT_DESIGN), "--out", "fresh", "--no-cache"]) == 0

@@ -25,6 +25,8 @@ def run(args) -> int:
     print(f"swiftfin build: {args.params_file} -> {args.out}/", file=sys.stderr, flush=True)
     result = build(args.params_file, args.out, cache=cache, progress=stderr_progress)
     print(summary_table(result))
-    n_files = sum(len(b.export.files) for b in result.parts) + 2
-    print(f"wrote {n_files} files to {Path(args.out)}/ (manifest.json lists them with their SHA-256)")
+    import json
+    listed = json.loads((Path(args.out) / "manifest.json").read_text())["files"]
+    print(f"wrote {len(listed) + 1} files to {Path(args.out)}/: parts, assembly.step, robot/, mass_properties.json, "
+          f"report.html and manifest.json (which lists the others with their SHA-256)")
     return 0
