@@ -44,6 +44,8 @@ class ParamError(ValueError):
 
 _MISSING = object()
 
+GROOVE_WEB_MM = 0.2   # least material between neighbouring turns of the spool's groove (else the turns merge)
+
 
 def _suggest(name: str, options: Iterable[str]) -> str:
     close = difflib.get_close_matches(name, list(options), n=1, cutoff=0.6)
@@ -190,10 +192,13 @@ def cross_field_problems(p: Params) -> list[Problem]:
                            f"must be smaller than motor.hole_spacing_mm ({m.hole_spacing_mm:g})"))
 
     s, c, g, pr = p.spool, p.cable, p.guides, p.print
-    if s.groove_pitch_mm < c.diameter_mm + pr.line_width_mm:
+    groove_width = c.diameter_mm + pr.clearance_sliding_mm       # the groove cad/spool.py cuts
+    min_pitch = max(c.diameter_mm + pr.line_width_mm, groove_width + GROOVE_WEB_MM)
+    if s.groove_pitch_mm < min_pitch:
         out.append(Problem("spool.groove_pitch_mm", s.groove_pitch_mm,
-                           f"the cable ({c.diameter_mm:g} mm) is thicker than its groove: pitch must be >= cable "
-                           f"diameter + one line width = {c.diameter_mm + pr.line_width_mm:g} mm"))
+                           f"the cable ({c.diameter_mm:g} mm) is thicker than its groove: the groove is "
+                           f"{groove_width:g} mm wide (cable + print.clearance_sliding_mm) and the pitch must leave a "
+                           f"web between turns: pitch >= {min_pitch:g} mm"))
     if s.groove_depth_mm > c.diameter_mm:
         out.append(Problem("spool.groove_depth_mm", s.groove_depth_mm,
                            f"must not exceed the cable diameter ({c.diameter_mm:g} mm)"))

@@ -44,6 +44,7 @@ BAD_FILES = [
     ("[spool]\ndiamter_mm = 20\n", ["spool.diamter_mm", "did you mean 'drum_diameter_mm'"]),
     ("[spool]\ndrum_diameter_mm = -20\n", ["spool.drum_diameter_mm = -20", "allowed [4, 100]"]),
     ("[cable]\ndiameter_mm = 1.5\n", ["spool.groove_pitch_mm", "thicker than its groove"]),
+    ("[print]\nclearance_sliding_mm = 1.2\n", ["spool.groove_pitch_mm", "2.2 mm wide", "pitch >= 2.4 mm"]),
     ("[spool]\ndrum_diameter_mm = 6\n", ["spool.drum_diameter_mm = 6.0", "too small for the motor shaft"]),
     ("[guides]\nptfe_tube_id_mm = 0.8\n", ["guides.ptfe_tube_id_mm", "cable hole smaller than the cable"]),
     ("[joints]\ncount = 3\n", ["joints.stations_fraction", "expected 3 stations"]),
