@@ -2,15 +2,11 @@
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
-from pathlib import Path
 
 import build123d as bd
 import numpy as np
 import pytest
-from OCP.BRepGProp import BRepGProp
-from OCP.GProp import GProp_GProps
 
 from cad import layout as L
 from cad.fin import make_caudal_fin
@@ -21,34 +17,12 @@ from swiftfin.errors import UserError
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.GeomAbs import GeomAbs_Cylinder
 from swiftfin.schema import Params
+from tests.golden_check import check_golden, precise_volume_mm3
 
-GOLDEN = Path(__file__).parent / "golden"
 P = Params()   # the schema defaults are the default design (swiftfin.toml is generated from them)
 
 DEFAULT_LABELS = [f"{n}_{h}" for n in ("hull_head_front", "hull_head_rear", "hull_body_1", "hull_body_2",
                                        "hull_body_3", "hull_peduncle") for h in ("upper", "lower")]
-
-
-def precise_volume_mm3(solid) -> float:
-    """B-rep volume by adaptive integration (eps 1e-6). ``Shape.volume`` uses a fixed-order rule that is off by
-    up to 0.5 % on these lofted B-spline solids; this agrees with an eps of 1e-8 to 1e-6 relative."""
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(solid.wrapped, props, 1e-6, False)
-    return props.Mass()
-
-
-def check_golden(label: str, solid, update: bool) -> None:
-    bb = solid.bounding_box()
-    now = {"volume_mm3": precise_volume_mm3(solid), "bbox_min_mm": list(bb.min), "bbox_max_mm": list(bb.max)}
-    path = GOLDEN / f"{label}.json"
-    if update:
-        path.write_text(json.dumps(now, indent=1) + "\n")
-        return
-    assert path.exists(), f"no golden file {path.name}: run pytest --update-golden on purpose"
-    ref = json.loads(path.read_text())
-    assert now["volume_mm3"] == pytest.approx(ref["volume_mm3"], rel=1e-6)
-    assert now["bbox_min_mm"] == pytest.approx(ref["bbox_min_mm"], abs=1e-4)
-    assert now["bbox_max_mm"] == pytest.approx(ref["bbox_max_mm"], abs=1e-4)
 
 
 @pytest.fixture(scope="session")
