@@ -361,7 +361,7 @@ def audit_section(audit) -> str:
     for e in audit:
         v = {True: ("holds", "pass"), False: ("does not hold", "fail"), None: ("cannot check", "na")}[e.holds]
         unit = "" if e.unit == "-" else e.unit
-        rows.append([f"<code>{esc(e.entry_id)}</code>", esc(e.where), esc(e.quantity), num(e.paper, ".4g"),
+        rows.append(["<code>" + esc(e.entry_id).replace("_", "_<wbr>") + "</code>", esc(e.where), esc(e.quantity), num(e.paper, ".4g"),
                      num(e.recomputed, ".4g"), esc(unit), f'<span class="badge {v[1]}">{v[0]}</span>',
                      f'<span class="detail">{esc(e.reason)}</span>'])
         classes.append("row-" + v[1])
@@ -499,7 +499,7 @@ tr.row-na td:first-child{border-left:4px solid var(--na)}
 .notice.missing{background:#f4f6f8;border:1px dashed #b7c0cc;color:#44505e}
 .notice.info{background:#eaf2fb;border:1px solid #c6dbf1}
 .notice.warn{background:#fef5e7;border:1px solid #f5d7a1}
-table.audit td:nth-child(3){min-width:190px}table.audit td:nth-child(8){min-width:320px}
+table.audit td:nth-child(3){min-width:150px}table.audit td:nth-child(8){min-width:210px}
 table.rules td:first-child{min-width:260px}table.rules td:last-child{min-width:260px}table.rules td:nth-child(3){white-space:nowrap}
 footer{color:var(--muted);font-size:12.5px;text-align:center;padding:10px 0 30px}
 """
