@@ -63,7 +63,9 @@ A candidate is *accepted* when, against the current model, on the held-out rows:
     t-test on contiguous block means (:func:`block_test`) is reported beside it, and
   * its fitted parameters pass the effect's plausibility check and lie inside their bounds (not pinned).
 Every candidate is first fitted on its grid; the ``n_refine`` best are refined; the best accepted one (lowest
-held-out RMSE) is added. Then the earlier effects' nonlinear values are refined again with it (they were fitted
+held-out RMSE) is added. Marginality: an effect that *refines* another (:attr:`Effect.refines`, e.g. a
+direction-dependent viscous coefficient refines viscous friction) is a candidate only once that effect is in the
+model, and is added only when no accepted primary effect remains at that step. Then the earlier effects' nonlinear values are refined again with it (they were fitted
 without it), and backward pruning removes any earlier effect that no longer passes the same criterion given the
 others (it stood in for the one just found); a removed effect is not re-added. Candidates whose held-out error is not
 significantly worse than the winner's (paired block test p > 0.05 or RMSE within 1 %) are reported as
@@ -210,6 +212,9 @@ class Effect:
     linear: tuple[Param, ...] = ()
     nonlinear: tuple[Param, ...] = ()
     fingerprint_axis: str = "velocity"
+    #: names of the effects this one modifies (asymmetric friction refines viscous friction): it is a
+    #: candidate only once they are in the model, and loses to any accepted primary effect (marginality)
+    refines: tuple[str, ...] = ()
 
     def __init__(self, **kw: Any):
         for k, v in kw.items():
@@ -1096,6 +1101,8 @@ class Calibrator:
             for eff in cands:
                 if eff.name in names_active:
                     continue
+                if eff.refines and not set(eff.refines) <= {e.name for e, _ in active}:
+                    continue        # a refinement waits for the effect it modifies
                 try:
                     nl, model, _ = self._fit_candidate(parts, active, eff, refine=False)
                 except (np.linalg.LinAlgError, ValueError, FloatingPointError) as exc:
@@ -1140,6 +1147,13 @@ class Calibrator:
                 step["decision"] = "stop: no candidate lowers the held-out error significantly with plausible values"
                 self.steps_.append(step)
                 break
+            primary = [tr for tr in good if not tr[0].refines]
+            if primary and len(primary) < len(good):
+                # marginality: a refinement of a term (a direction-dependent viscous coefficient) is added only
+                # once no new primary term is still wanted; it could otherwise absorb one (|v| has a mean,
+                # so an asymmetric viscous term stands in for an offset)
+                step["deferred_refinements"] = [tr[0].name for tr in good if tr[0].refines]
+                good = primary
             best = min(good, key=lambda tr: tr[2].rmse_hold)
             rivals = []
             for tr in trials:

@@ -216,6 +216,15 @@ def markdown(rep: dict, plots: dict[str, str]) -> str:
                       f"(held-out errors not significantly different). Treat the name as one of these.", ""]
         if e["name"] in plots:
             lines += [f"![{e['name']}]({plots[e['name']]})", ""]
+    removed = [s for s in rep.get("steps", []) if str(s.get("decision", "")).startswith("remove ")]
+    if removed:
+        lines += ["## Effects removed again (backward pruning)", ""]
+        for s in removed:
+            lines.append(f"- **{s['decision'][7:]}**: given the effects found after it, it lowered the held-out "
+                         f"error by only {100 * _num(s.get('relative_drop_given_others')):.1f} % "
+                         f"(p = {_num(s.get('p_value')):.2g}); it stood in for one of them."
+                         + (f" Implausible: {'; '.join(s['plausibility'])}." if s.get("plausibility") else ""))
+        lines.append("")
     lines += ["## Plots", ""]
     for key in ("measured_vs_model", "residual_spectrum"):
         if key in plots:

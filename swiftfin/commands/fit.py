@@ -156,6 +156,10 @@ def run(args) -> int:
         alt = f" (indistinguishable from {', '.join(e['indistinguishable_from'])})" if e["indistinguishable_from"] else ""
         print(f"  + {e['name']}: {e['rmse_holdout_before']:.4g} -> {e['rmse_holdout_after']:.4g}, "
               f"{e['confidence']} confidence{alt}")
+    for s in rep.get("steps", []):
+        if str(s.get("decision", "")).startswith("remove "):
+            print(f"  - {s['decision'][7:]}: removed again, it stood in for an effect found later "
+                  f"(held-out drop given the others {100 * s['relative_drop_given_others']:.1f} %)")
     if not rep["added_effects"]:
         print("  no effect added")
     if rep["unexplained_structure"]:
