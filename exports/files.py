@@ -275,4 +275,5 @@ def export_part(spec, p) -> PartExport:
         files[".stl"] = stl_bytes(pm, spec.label)
         files[".3mf"] = threemf_bytes(pm, spec.label)
         files[".step"] = step_bytes(move_shape(spec.solid, m), spec.label)
-    return PartExport(mesh, float(spec.solid.volume), float(spec.solid.area), size, files)
+    from exports.massprops import solid_volume_props   # the adaptive integration, not Shape.volume's fixed rule
+    return PartExport(mesh, solid_volume_props(spec.solid).volume_mm3, float(spec.solid.area), size, files)

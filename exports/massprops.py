@@ -148,12 +148,18 @@ def _wrapped(shape):
     return shape.wrapped if hasattr(shape, "wrapped") else shape
 
 
+#: Relative accuracy asked of OpenCascade's adaptive volume integration. The fixed-order default was up to 0.5 %
+#: off on lofted parts (caudal_fin +0.49 % volume, hull_head_front_lower +0.20 %); adaptive at 1e-6 costs at most
+#: 0.7 s per part (the fin) and its reported error bound is below 1e-6 on every part of the default design.
+VOLUME_EPS = 1e-6
+
+
 def solid_volume_props(shape) -> VolumeProps:
-    """Exact B-rep volume properties (OpenCascade) of a solid/compound in mm."""
+    """B-rep volume properties (OpenCascade, adaptive Gauss integration to :data:`VOLUME_EPS`) in mm."""
     from OCP.BRepGProp import BRepGProp
     from OCP.GProp import GProp_GProps
     g = GProp_GProps()
-    BRepGProp.VolumeProperties_s(_wrapped(shape), g)
+    BRepGProp.VolumeProperties_s(_wrapped(shape), g, VOLUME_EPS)
     c = g.CentreOfMass()
     M = g.MatrixOfInertia()
     second = [[M.Value(i, j) for j in (1, 2, 3)] for i in (1, 2, 3)]

@@ -19,6 +19,7 @@ from swiftfin.cache import FamilyCache
 from swiftfin.pipeline import build_parts, write_outputs
 from swiftfin.schema import Params
 from tests.conftest import DEFAULT_DESIGN
+from tests.golden_check import precise_volume_mm3
 
 F32_SLACK_MM = 1e-4  # float32 rounding of STL/3MF coordinates (< 500 mm x 2^-24 = 3e-5 mm)
 
@@ -153,7 +154,7 @@ def test_every_step_reimports_with_the_brep_volume(default_build):
     result, folder = default_build
     for b in _printed(result):
         back = bd.import_step(str(folder / "parts" / f"{b.spec.label}.step"))
-        assert back.volume == pytest.approx(b.export.volume_mm3, rel=1e-6), b.spec.label
+        assert precise_volume_mm3(back) == pytest.approx(b.export.volume_mm3, rel=1e-6), b.spec.label
         assert len(back.solids()) == 1, b.spec.label
 
 
@@ -164,7 +165,7 @@ def test_assembly_step_holds_every_part_by_name(default_build):
         assert f"PRODUCT('{b.spec.label}'" in text, b.spec.label
     back = bd.import_step(str(folder / "assembly.step"))
     assert len(back.solids()) == len(result.parts)
-    assert back.volume == pytest.approx(sum(b.export.volume_mm3 for b in result.parts), rel=1e-6)
+    assert precise_volume_mm3(back) == pytest.approx(sum(b.export.volume_mm3 for b in result.parts), rel=1e-6)
 
 
 def test_manifest_hashes_match_the_files(default_build, tmp_path):

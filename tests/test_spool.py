@@ -2,9 +2,7 @@
 from __future__ import annotations
 
 import functools
-import json
 import math
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,21 +16,7 @@ from swiftfin.errors import UserError
 from swiftfin.params import replace_key
 from swiftfin.schema import Params
 
-GOLDEN = Path(__file__).parent / "golden"
-
-
-def check_golden(label: str, solid, update: bool) -> None:
-    bb = solid.bounding_box()
-    now = {"volume_mm3": solid.volume, "bbox_min_mm": list(bb.min), "bbox_max_mm": list(bb.max)}
-    path = GOLDEN / f"{label}.json"
-    if update:
-        path.write_text(json.dumps(now, indent=1) + "\n")
-        return
-    assert path.exists(), f"no golden file {path.name}: run pytest --update-golden on purpose"
-    ref = json.loads(path.read_text())
-    assert now["volume_mm3"] == pytest.approx(ref["volume_mm3"], rel=1e-6)
-    assert now["bbox_min_mm"] == pytest.approx(ref["bbox_min_mm"], abs=1e-4)
-    assert now["bbox_max_mm"] == pytest.approx(ref["bbox_max_mm"], abs=1e-4)
+from tests.golden_check import check_golden
 
 
 def mesh_of(solid, tol: float) -> trimesh.Trimesh:
