@@ -373,6 +373,24 @@ def _splice_screw(p: Params, s_mm: float, upper: bool) -> bd.Solid:
     return rod((x, 0, 0), (0, 0, 1 if upper else -1), r, b + 5)
 
 
+def flooded(p: Params, link: int) -> bool:
+    """Whether the hull segments of ``link`` flood (``hull.flooded_from_joint``)."""
+    return link >= p.hull.flooded_from_joint
+
+
+def _vent_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
+    """A flooded piece's two vents, at the middle of its cavity on the centre line: one through the top (air
+    out), one through the bottom (water in, and out when the fish is lifted)."""
+    if not flooded(p, pc.link):
+        return []
+    c0, c1 = _cavity_range(p, pc)
+    s = 0.5 * (max(c0, pc.s_start_mm) + min(c1, pc.s_end_mm))
+    _, b = hull_section_semi_axes_mm(p, s)
+    r = p.hull.vent_hole_diameter_mm / 2
+    z_in = b - 2 * p.hull.wall_thickness_mm       # start inside the cavity, end outside the shell
+    return [rod((-s, 0.0, sg * z_in), (0, 0, sg), r, 3 * p.hull.wall_thickness_mm + 2.0) for sg in (1, -1)]
+
+
 def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
     """The whole piece (before the split into halves), as one solid."""
     hw = {h.joint: h for h in all_joint_hardware(p)}
@@ -393,7 +411,7 @@ def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
         cuts += [_splice_screw(p, pc.s_start_mm, True), _splice_screw(p, pc.s_start_mm, False)]
     if adds:
         body = body.fuse(*adds).clean()
-    cuts += _cable_holes(p, pc) + _fixing_holes(p, pc)
+    cuts += _cable_holes(p, pc) + _fixing_holes(p, pc) + _vent_holes(p, pc)
     if pc.tail:
         cuts += _tail_features(p, pc)
     if cuts:

@@ -328,6 +328,21 @@ def net_buoyancy(ctx: RuleContext) -> Finding:
                           f"({'floats' if frac > 0 else 'sinks'})")
 
 
+def floats_level(ctx: RuleContext) -> Finding:
+    src = "static pitch in still water within environment.max_static_pitch_deg: atan(COM's lead over the COB / " \
+          "COB's height over the COM)"
+    mp = ctx.mass_properties
+    if mp is None:
+        return not_evaluated("float.level", src, "needs the built parts' mass properties (com, cob): "
+                                                 "pass --mass-properties FILE", unit="deg")
+    from exports.massprops import static_pitch_deg
+    pitch = static_pitch_deg(mp.com_m, mp.cob_m)
+    lead_mm = (mp.com_m[0] - mp.cob_m[0]) * 1e3
+    return at_most("float.level", abs(pitch), ctx.p.environment.max_static_pitch_deg, src, unit="deg",
+                   detail=f"COM {abs(lead_mm):.1f} mm {'ahead of' if lead_mm >= 0 else 'behind'} the COB: settles "
+                          f"{abs(pitch):.1f} deg nose-{'down' if pitch >= 0 else 'up'}")
+
+
 @dataclass(frozen=True)
 class Rule:
     rule_id: str
@@ -358,6 +373,7 @@ RULES: list[Rule] = [
     Rule("print.bed_fit", "print", bed_fit),
     Rule("float.upright", "float", floats_upright),
     Rule("float.net_buoyancy", "float", net_buoyancy),
+    Rule("float.level", "float", floats_level),
 ]
 
 

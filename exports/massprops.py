@@ -8,8 +8,10 @@ Method (house style rules 3, 10)
 * **Bought parts** (``PartSpec.printed`` False) carry a catalogue ``mass_kg``; their box/cylinder geometry is
   taken as a uniform-density body scaled to that mass. The **cables** are line masses
   (``cable.linear_density_g_m``) along ``cad.layout.cable_routes`` plus their wraps on the drums
-  (:func:`cable_masses`, one ``cables_link_<j>`` entry per link). PTFE tube is not counted (no length or
-  linear density in the parameter file; a few grams).
+  (:func:`cable_masses`, one ``cables_link_<j>`` entry per link). The **PTFE tube** lines every guide channel
+  where it passes through its printed block (:func:`ptfe_tube_masses`): a thin-walled rod of
+  ``guides.ptfe_tube_od_mm`` / ``ptfe_tube_id_mm`` and ``guides.ptfe_density_kg_m3`` along the channel centre
+  lines of ``cad.guide.guide_blocks``, one ``ptfe_tube_link_<j>`` entry per link that holds guides.
 * **Printed parts** are not solid. Mass model ``m = rho * (V_solid - (1 - infill) * V_core + V_extra)``: the B-rep
   solid minus ``(1 - infill)`` times the *core*, the region the slicer fills with sparse infill; the core's
   first and second moments are subtracted the same way (inertia about the part's COM by the parallel-axis
@@ -653,6 +655,61 @@ def cable_masses(p: Params) -> list[PartMass]:
     return out
 
 
+def _channel_centre_line(ch, n_arc: int = 33) -> np.ndarray:
+    from cad.guide import arc_points
+    mid = arc_points(ch, n_arc) if ch.angle_rad > 1e-9 else np.array([ch.t1])
+    return np.vstack([np.asarray(ch.p_in, float), mid, np.asarray(ch.p_out, float)])
+
+
+def _clip_polyline_x(pts: np.ndarray, x_lo: float, x_hi: float) -> list[tuple[np.ndarray, np.ndarray]]:
+    """Pieces of a polyline with x inside [x_lo, x_hi]."""
+    out = []
+    for a, b in zip(pts[:-1], pts[1:]):
+        if b[0] == a[0]:
+            t0, t1 = (0.0, 1.0) if x_lo <= a[0] <= x_hi else (1.0, 1.0)
+        else:
+            ta, tb = (x_lo - a[0]) / (b[0] - a[0]), (x_hi - a[0]) / (b[0] - a[0])
+            t0, t1 = max(0.0, min(ta, tb)), min(1.0, max(ta, tb))
+        if t1 > t0:
+            out.append((a + t0 * (b - a), a + t1 * (b - a)))
+    return out
+
+
+def ptfe_tube_masses(p: Params) -> list[PartMass]:
+    """The PTFE tube pieces lining the guide channels, as thin rods along each channel's centre line (line, arc,
+    line of :class:`cad.guide.Channel`) clipped to its block's length, one entry per link. A tube is a hollow
+    cylinder: mass rho pi (OD^2 - ID^2) / 4 per metre; its inertia across is taken as a solid rod's of the outer
+    radius scaled to that mass (the radial term is < 1e-3 of the total for a piece longer than 5 OD)."""
+    from cad.guide import guide_blocks
+    g = p.guides
+    r_o, r_i = g.ptfe_tube_od_mm / 2, g.ptfe_tube_id_mm / 2
+    rho_l = g.ptfe_density_kg_m3 * math.pi * units.length_m(1.0) ** 2 * (r_o**2 - r_i**2)   # kg/m
+    pieces: dict[int, list[Inertial]] = {}
+    ends: dict[int, list[np.ndarray]] = {}
+    for block in guide_blocks(p):
+        x_lo, x_hi = block.x_mm
+        for ch in block.channels:
+            for a, b in _clip_polyline_x(_channel_centre_line(ch), x_lo, x_hi):
+                length_m = units.length_m(float(np.linalg.norm(b - a)))
+                if length_m <= 0:
+                    continue
+                link = link_of_station(p, -0.5 * (a[0] + b[0]))
+                ends.setdefault(link, []).extend([units.length_m(a), units.length_m(b)])
+                pieces.setdefault(link, []).append(
+                    rod_inertial(rho_l * length_m, units.length_m(a), units.length_m(b), units.length_m(r_o)))
+    out = []
+    for link, items in sorted(pieces.items()):
+        it = combine(items)
+        pts = np.array(ends[link])
+        pad = units.length_m(r_o)
+        out.append(PartMass(f"ptfe_tube_link_{link}", link, "ptfe", False,
+                            f"line mass: guides.ptfe_density_kg_m3 x pi (OD^2 - ID^2) / 4 = {1000 * rho_l:.3g} g/m "
+                            "along the guide channels (cad.guide.guide_blocks), clipped to each block",
+                            (), 0.0, 0.0, 0.0, 0.0, it, it, None, None,
+                            (tuple(pts.min(axis=0) - pad), tuple(pts.max(axis=0) + pad))))
+    return out
+
+
 # ----------------------------------------------------------------------------------------------- links & report
 @dataclass(frozen=True)
 class LinkMass:
@@ -681,6 +738,9 @@ class MassReport:
     uncertainty: dict
     link_displaced_volume_m3: tuple[float, ...]
     link_cob_m: tuple[tuple[float, float, float], ...]   # per link, body frame
+    link_flooded: tuple[bool, ...] = ()
+    link_entrained_water: tuple = ()        # per link: Inertial of the water inside a flooded link (body frame) or None
+    trim: dict = field(default_factory=dict)   # the trim ballast computation (see :func:`trim_ballast`)
 
     @property
     def cob_com_distance_m(self) -> float:
@@ -712,6 +772,72 @@ def envelope_volume_mm3(p: Params, s0_mm: float, s1_mm: float, n: int = 4001) ->
     area = np.pi * a * b
     V = float(simpson(area, x=s))
     return V, (float(simpson(area * s, x=s)) / V if V > 0 else 0.5 * (s0_mm + s1_mm))
+
+
+def envelope_inertial(p: Params, s0_mm: float, s1_mm: float, density_kg_m3: float, n: int = 400) -> Inertial:
+    """The hull's closed outer envelope between stations s0 and s1 as a uniform body (elliptical slices of
+    :func:`envelope_section_mm`, each a thin elliptic disc: I_xx = m (a^2 + b^2) / 4, I_yy = m (b^2 / 4 + ds^2 / 12),
+    I_zz = m (a^2 / 4 + ds^2 / 12)), body frame, SI."""
+    edges = np.linspace(s0_mm, s1_mm, n + 1)
+    mids, ds = 0.5 * (edges[1:] + edges[:-1]), (s1_mm - s0_mm) / n
+    a, b = envelope_section_mm(p, mids)
+    a_m, b_m, ds_m = units.length_m(a), units.length_m(b), units.length_m(ds)
+    m = density_kg_m3 * math.pi * a_m * b_m * ds_m
+    items = [make_inertial(mi, (-units.length_m(si), 0.0, 0.0),
+                           np.diag([mi * (ai**2 + bi**2) / 4, mi * (bi**2 / 4 + ds_m**2 / 12),
+                                    mi * (ai**2 / 4 + ds_m**2 / 12)]))
+             for mi, si, ai, bi in zip(m, mids, a_m, b_m) if mi > 0]
+    return combine(items)
+
+
+def trim_ballast(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, flooded_links) -> dict:
+    """The lead ballast that makes the fish neutral (weight = buoyancy) and level (COM under the COB), placed on
+    the hull floor (its lowest inside point, for the largest righting lever).
+
+    Neutral: ``M + m = rho_w (V + v)`` with ``v = m / rho_b`` when the ballast sits in a flooded link (it
+    displaces water) and ``v = 0`` in a sealed one. Level: ``(M x_com + m x) / (M + m) = (V x_cob + v x) / (V + v)``,
+    so ``x = (rho_w V x_cob - M x_com) / (m - rho_w v)``. Returns the numbers and, when no ballast can do it (the
+    fish sinks, or the place falls outside the hull), ``possible`` False and the reason."""
+    rho_w, rho_b = p.environment.water_density_kg_m3, p.environment.ballast_density_kg_m3
+    M, V = float(mass_kg), float(volume_m3)
+    x_com, x_cob = float(com_m[0]), float(cob_m[0])
+    out = {"ballast_density_kg_m3": rho_b, "excess_buoyancy_kg": rho_w * V - M}
+    if rho_w * V - M <= 0:
+        return {**out, "possible": False,
+                "reason": f"the fish sinks by {M - rho_w * V:.4g} kg: ballast cannot trim it (it needs flotation)"}
+    x_m = None
+    for in_flooded in (True, False):
+        m = (rho_w * V - M) / (1.0 - rho_w / rho_b) if in_flooded else rho_w * V - M
+        v = m / rho_b if in_flooded else 0.0
+        x_m = (rho_w * V * x_cob - M * x_com) / (m - rho_w * v)
+        link = link_of_station(p, -1000.0 * x_m)
+        if flooded_links[min(link, len(flooded_links) - 1)] == in_flooded:
+            break
+    s_mm = -1000.0 * x_m
+    r_mm = 1000.0 * (3.0 * m / rho_b / (4.0 * math.pi)) ** (1.0 / 3.0)
+    s_lo, s_hi = 0.0, layout.hull_end_mm(p)
+    a, b = envelope_section_mm(p, s_mm)
+    room = float(min(a, b)) - p.hull.wall_thickness_mm - r_mm
+    out.update({"mass_kg": m, "x_m": x_m, "station_fraction": s_mm / p.body.length_mm, "link": link,
+                "in_flooded_link": bool(flooded_links[min(link, len(flooded_links) - 1)]),
+                "sphere_radius_mm": r_mm})
+    if not (s_lo < s_mm < s_hi) or room <= 0:
+        return {**out, "possible": False,
+                "reason": f"the ballast would have to sit at station {s_mm:.0f} mm ({s_mm / p.body.length_mm:.3f} L), "
+                          f"{'outside the hull' if not (s_lo < s_mm < s_hi) else 'where a sphere of it does not fit'}"}
+    z_m = -units.length_m(float(b) - p.hull.wall_thickness_mm - r_mm)
+    return {**out, "possible": True, "z_m": float(z_m)}
+
+
+def _ballast_part(p: Params, trim: dict) -> PartMass:
+    m, r = trim["mass_kg"], units.length_m(trim["sphere_radius_mm"])
+    c = np.array([trim["x_m"], 0.0, trim["z_m"]])
+    it = make_inertial(m, c, 0.4 * m * r * r * np.eye(3))
+    bbox = (tuple(c - r), tuple(c + r))
+    return PartMass("trim_ballast", int(trim["link"]), "ballast", False,
+                    "computed: lead sphere (environment.ballast_density_kg_m3) that makes the fish neutral and level "
+                    "(exports.massprops.trim_ballast)", (), m / p.environment.ballast_density_kg_m3, 0.0,
+                    m / p.environment.ballast_density_kg_m3, 0.0, it, it, None, None, bbox)
 
 
 def _fin_outside_volume(p: Params, parts) -> tuple[float, np.ndarray, int]:
@@ -779,24 +905,58 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
         except ValueError as exc:
             raise BuildError(f"part {part.label}: mass model failed: {exc}") from exc
     out += cable_masses(params)
+    out += ptfe_tube_masses(params)
     links_idx = sorted({pt.link for pt in out})
     if links_idx != list(range(len(links_idx))) or len(links_idx) != params.joints.count + 1:
         raise BuildError(f"links: parts belong to links {links_idx}; expected 0..{params.joints.count} "
                          f"(one per joint plus the head)")
-    # displaced volume: skinned hull envelope, split per link at the joint stations, plus the fin behind the hull
+    # displaced volume per link: a sealed link displaces its closed envelope (plus the fin behind the hull end);
+    # a flooded one (hull.flooded_from_joint) only the solids of its parts, and carries the water inside it
     js = layout.joint_stations_mm(params)
     bounds = [0.0, *js, layout.hull_end_mm(params)]
-    link_V, link_cob = [], []
-    for j in range(len(bounds) - 1):
-        V, s_c = envelope_volume_mm3(params, bounds[j], bounds[j + 1])
-        link_V.append(V)
-        link_cob.append(np.array([-s_c, 0.0, 0.0]))
+    rho_w = params.environment.water_density_kg_m3
+    flooded = tuple(j >= params.hull.flooded_from_joint for j in range(len(bounds) - 1))
     V_fin, c_fin, fin_link = _fin_outside_volume(params, parts)
-    if V_fin > 0:
-        j = fin_link
-        Vt = link_V[j] + V_fin
-        link_cob[j] = (link_V[j] * link_cob[j] + V_fin * c_fin) / Vt
-        link_V[j] = Vt
+
+    def displacement(items: list[PartMass]):
+        link_V, link_cob, water = [], [], []
+        for j in range(len(bounds) - 1):
+            if not flooded[j]:
+                V, s_c = envelope_volume_mm3(params, bounds[j], bounds[j + 1])
+                cob = np.array([-s_c, 0.0, 0.0])
+                if V_fin > 0 and j == fin_link:
+                    cob = (V * cob + V_fin * c_fin) / (V + V_fin)
+                    V += V_fin
+                link_V.append(V)
+                link_cob.append(cob)
+                water.append(None)
+                continue
+            mine = [pt for pt in items if pt.link == j and pt.volume_solid_m3 > 0]
+            V_m3 = sum(pt.volume_solid_m3 for pt in mine)
+            cob_m = sum(pt.volume_solid_m3 * pt.solid.com for pt in mine) / V_m3 if V_m3 > 0 else np.zeros(3)
+            link_V.append(V_m3 * 1e9)
+            link_cob.append(1000.0 * cob_m)
+            # the water inside: the envelope at water density less the parts' solids at water density (the fin's
+            # part behind the hull end was never inside the envelope)
+            env = envelope_inertial(params, bounds[j], bounds[j + 1], rho_w)
+            minus = [pt.solid.scaled_mass(-rho_w * pt.volume_solid_m3 / pt.solid.mass_kg) for pt in mine]
+            if V_fin > 0 and j == fin_link:
+                m_out = rho_w * units.volume_m3(V_fin)
+                minus.append(make_inertial(m_out, units.length_m(c_fin), np.zeros((3, 3))))
+            water.append(combine([env, *minus]))
+        return link_V, link_cob, water
+
+    link_V, link_cob, water = displacement(out)
+    trim: dict = {"enabled": bool(params.environment.trim_ballast)}
+    if params.environment.trim_ballast:
+        V_m3 = units.volume_m3(sum(link_V))
+        cob0 = units.length_m(sum(v * c for v, c in zip(link_V, link_cob)) / sum(link_V))
+        dry = combine([pt.inertial for pt in out])
+        trim.update(trim_ballast(params, dry.mass_kg, dry.com, V_m3, cob0, flooded))
+        if trim.get("possible"):
+            out.append(_ballast_part(params, trim))
+            link_V, link_cob, water = displacement(out)
+    links_idx = sorted({pt.link for pt in out})
     V_tot = sum(link_V)
     cob_mm = sum(v * c for v, c in zip(link_V, link_cob)) / V_tot
     links = []
@@ -816,12 +976,13 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
             samples[j].append(li)
     links = [replace(lk, ranges=_ranges(samples[lk.index])) for lk in links]
     total = combine([pt.inertial for pt in out])
-    g, rho_w = params.environment.gravity_m_s2, params.environment.water_density_kg_m3
+    g = params.environment.gravity_m_s2
     V_m3 = units.volume_m3(V_tot)
     return MassReport(tuple(out), tuple(links), total, V_m3, tuple(float(v) for v in units.length_m(cob_mm)),
                       rho_w * g * V_m3, total.mass_kg * g, pm, dict(unc),
                       tuple(units.volume_m3(v) for v in link_V),
-                      tuple(tuple(float(x) for x in units.length_m(c)) for c in link_cob))
+                      tuple(tuple(float(x) for x in units.length_m(c)) for c in link_cob),
+                      flooded, tuple(water), trim)
 
 
 def default_uncertainty(params: Params) -> dict:
@@ -960,21 +1121,47 @@ def report_to_dict(params: Params, report: MassReport) -> dict:
              "volume_material_m3": pt.volume_material_m3}
         e.update(_inertial_dict(pt.inertial, "body"))
         d["parts"].append(e)
-    for lk, V, cob in zip(report.links, report.link_displaced_volume_m3, report.link_cob_m):
+    for k, (lk, V, cob) in enumerate(zip(report.links, report.link_displaced_volume_m3, report.link_cob_m)):
         e = {"index": lk.index, "name": lk.name, "origin_m": list(lk.origin_m), "parts": list(lk.parts),
+             "flooded": bool(report.link_flooded[k]) if report.link_flooded else False,
              "displaced_volume_m3": V, "cob_m_body": list(cob), "com_m_body": lk.com_body_m.tolist()}
         e.update(_inertial_dict(lk.inertial, f"link {lk.name}"))
         e["ranges"] = lk.ranges
+        w = report.link_entrained_water[k] if report.link_entrained_water else None
+        if w is not None:
+            e["entrained_water"] = {**_inertial_dict(w.shifted(lk.origin_m), f"link {lk.name}"),
+                                    "note": "water inside the flooded segments, moving with the link: inertia in "
+                                            "water (the MJCF adds it), neutrally buoyant"}
         d["links"].append(e)
     g = params.environment.gravity_m_s2
     d["total"] = {**_inertial_dict(report.total, "body"),
                   "paper_mass_kg": PAPER_MASS_KG,
                   "displaced_volume_m3": report.displaced_volume_m3,
-                  "displaced_volume_note": "sealed, skinned hull: closed outer envelope nose to hull end (joint "
-                                           "gaps spanned by the skin) plus the caudal fin behind the hull end",
+                  "displaced_volume_note": (
+                      "sealed links (ahead of hull.flooded_from_joint = "
+                      f"{params.hull.flooded_from_joint}): their closed outer envelope, plus the caudal fin behind "
+                      "the hull end; flooded links: the solid volume of their parts only (printed parts are closed "
+                      "shells), the water inside them moves with them (links[].entrained_water)"),
                   "cob_m": list(report.cob_m), "buoyancy_n": report.buoyancy_n, "weight_n": report.weight_n,
                   "net_buoyancy_n": report.buoyancy_n - report.weight_n,
                   "neutral_mass_kg": report.buoyancy_n / g,
                   "cob_com_distance_m": report.cob_com_distance_m,
-                  "cob_above_com_m": report.cob_m[2] - report.total.com_m[2]}
+                  "cob_above_com_m": report.cob_m[2] - report.total.com_m[2],
+                  "com_ahead_of_cob_m": report.total.com_m[0] - report.cob_m[0],
+                  "static_pitch_deg": static_pitch_deg(report.total.com_m, report.cob_m)}
+    d["trim"] = _jsonable(report.trim)
     return d
+
+
+def static_pitch_deg(com_m, cob_m) -> float:
+    """Pitch the straight fish settles at in still water [deg], nose down positive: the COM hangs under the COB,
+    so the body turns until the COB-COM line is vertical: atan(COM's lead over the COB / COB's height over it).
+    90 (or more) when the COB is not above the COM."""
+    dx = float(com_m[0] - cob_m[0])
+    dz = float(cob_m[2] - com_m[2])
+    return math.degrees(math.atan2(dx, dz))
+
+
+def _jsonable(d: dict) -> dict:
+    return {k: (float(v) if isinstance(v, (np.floating, float)) else int(v) if isinstance(v, (np.integer,))
+                else v) for k, v in d.items()}

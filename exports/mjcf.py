@@ -14,6 +14,9 @@
   Caveat (tests/test_mujoco_swim.py): MuJoCo's added-mass force keeps only ``(rho m_v v) x omega`` and drops
   ``-rho m_v dv/dt``; on an undulating fish that half has a backward mean, and the model has no reactive
   (shed-wake) thrust, so the paper's wave drives this fish slowly backward in MuJoCo.
+* **Flooded links** (``hull.flooded_from_joint``) carry the water inside them: the body's inertial is the link's
+  plus that water's (``Link.in_water``), and the water's volume is added to the displaced volume at its centroid
+  (it is neutrally buoyant). URDF and SDF describe the dry robot and leave it out.
 * **Buoyancy.** MuJoCo's fluid models add no buoyancy, so each body gets ``gravcomp = rho_w V_link / m_link``:
   an upward force equal to the weight of the water the link displaces, applied at the link's COM. The
   righting couple (buoyancy acts at the centre of buoyancy, not the COM) is not expressible in the file;
@@ -60,8 +63,9 @@ def mjcf_tree(robot: Robot, free: bool = True) -> ET.ElementTree:
 
     def body(parent_el: ET.Element, name: str, pos) -> None:
         lk = by_name[name]
-        m = lk.inertial.mass_kg
-        gravcomp = med.density_kg_m3 * lk.displaced_volume_m3 / m
+        inertial, V, cob = lk.in_water(med.density_kg_m3)     # a flooded link carries its water
+        m = inertial.mass_kg
+        gravcomp = med.density_kg_m3 * V / m
         b = ET.SubElement(parent_el, "body", name=name, pos=fmt(*pos), gravcomp=num(gravcomp))
         if name == robot.links[0].name and free:
             ET.SubElement(b, "freejoint", name="root")
@@ -70,8 +74,8 @@ def mjcf_tree(robot: Robot, free: bool = True) -> ET.ElementTree:
             ET.SubElement(b, "joint", name=jt.name, type="hinge", axis=fmt(*jt.axis),
                           range=fmt(jt.lower_rad, jt.upper_rad), limited="true",
                           damping=num(jt.damping_nm_s_rad), armature=num(jt.armature_kg_m2))
-        I = lk.inertial.inertia
-        ET.SubElement(b, "inertial", pos=fmt(*lk.inertial.com_m), mass=num(m),
+        I = inertial.inertia
+        ET.SubElement(b, "inertial", pos=fmt(*inertial.com_m), mass=num(m),
                       fullinertia=fmt(I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]))
         for g in lk.visuals:
             ET.SubElement(b, "geom", name=g.name, type="mesh", mesh=g.name, group="1",
@@ -80,7 +84,7 @@ def mjcf_tree(robot: Robot, free: bool = True) -> ET.ElementTree:
             ET.SubElement(b, "geom", name=g.name, type="ellipsoid", size=fmt(*g.size_m),
                           pos=fmt(*g.T_link_geom.xyz_m), group="3", contype="1", conaffinity="1",
                           fluidshape="ellipsoid", rgba="0.2 0.5 0.9 0.3")
-        ET.SubElement(b, "site", name=f"{name}_cob", pos=fmt(*lk.cob_m), size="0.004", group="4")
+        ET.SubElement(b, "site", name=f"{name}_cob", pos=fmt(*cob), size="0.004", group="4")
         for child in children[name]:
             body(b, child.child, child.T_parent_child.xyz_m)
 

@@ -100,8 +100,9 @@ def link_meshes(params, report: massprops.MassReport, meshes: dict, parts) -> di
     return out
 
 
-def check_mjcf(folder: Path, xml_name: str, robot: Robot) -> None:
-    """MuJoCo compiles the MJCF and its body masses match the model's (1e-9 relative)."""
+def check_mjcf(folder: Path, xml_name: str, robot: Robot, water_density_kg_m3: float) -> None:
+    """MuJoCo compiles the MJCF and its body masses match the model's in water (the link plus the water a
+    flooded link carries, :meth:`Link.in_water`; 1e-9 relative)."""
     import mujoco
     try:
         model = mujoco.MjModel.from_xml_path(str(folder / xml_name))
@@ -109,8 +110,9 @@ def check_mjcf(folder: Path, xml_name: str, robot: Robot) -> None:
         raise BuildError(f"MJCF: MuJoCo refused the model: {exc}") from exc
     for lk in robot.links:
         m = model.body(lk.name).mass[0]
-        if abs(m - lk.inertial.mass_kg) > 1e-9 * lk.inertial.mass_kg:
-            raise BuildError(f"link {lk.name}: MuJoCo mass {m!r} kg differs from {lk.inertial.mass_kg!r} kg")
+        want = lk.in_water(water_density_kg_m3)[0].mass_kg
+        if abs(m - want) > 1e-9 * want:
+            raise BuildError(f"link {lk.name}: MuJoCo mass {m!r} kg differs from {want!r} kg")
 
 
 def write_robot(params, parts, out_dir, meshes: dict | None = None,
@@ -144,7 +146,7 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
         (tmp / f"{ROBOT_NAME}.urdf").write_bytes(urdf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.xml").write_bytes(mjcf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.sdf").write_bytes(sdf_bytes(robot))
-        check_mjcf(tmp, f"{ROBOT_NAME}.xml", robot)
+        check_mjcf(tmp, f"{ROBOT_NAME}.xml", robot, params.environment.water_density_kg_m3)
         data = massprops.report_to_dict(params, report)
         data["checks"] = checks
         text = json.dumps(data, indent=1) + "\n"

@@ -24,7 +24,7 @@ import numpy as np
 
 from cad import layout
 from exports import units
-from exports.massprops import Inertial, MassReport, link_origin_mm
+from exports.massprops import Inertial, MassReport, combine, link_origin_mm
 from swiftfin.schema import Params
 
 JOINT_AXIS = (0.0, 0.0, -1.0)
@@ -57,6 +57,18 @@ class Link:
     fluid: tuple[Geometry, ...]         # ellipsoids for the fluid model
     displaced_volume_m3: float
     cob_m: tuple[float, float, float]   # centre of buoyancy, link frame
+    entrained_water: Inertial | None = None   # water inside a flooded link, link frame (moves with it in water)
+
+    def in_water(self, water_density_kg_m3: float) -> tuple[Inertial, float, tuple[float, float, float]]:
+        """(inertial, displaced volume, centre of buoyancy) of the link as it moves in water: with the water it
+        carries (neutrally buoyant: its volume is added to the displacement, at its centroid)."""
+        w = self.entrained_water
+        if w is None:
+            return self.inertial, self.displaced_volume_m3, self.cob_m
+        V_w = w.mass_kg / water_density_kg_m3
+        V = self.displaced_volume_m3 + V_w
+        cob = (self.displaced_volume_m3 * np.asarray(self.cob_m) + V_w * w.com) / V
+        return combine([self.inertial, w]), V, tuple(float(v) for v in cob)
 
 
 @dataclass(frozen=True)
@@ -217,7 +229,8 @@ def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfi
     n = p.joints.count
     stops = layout.joint_stop_angles_rad(p)
     links = []
-    for lk, V, cob in zip(report.links, report.link_displaced_volume_m3, report.link_cob_m):
+    waters = report.link_entrained_water or (None,) * len(report.links)
+    for lk, V, cob, water in zip(report.links, report.link_displaced_volume_m3, report.link_cob_m, waters):
         fluid = [fluid_ellipsoid(p, report, lk.index)]
         if lk.index == n:
             fin = fin_ellipsoid(p, parts, n)
@@ -226,7 +239,8 @@ def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfi
         visual = Geometry(f"{lk.name}_visual", "mesh", (), visual_mesh_file(lk.name))
         collision = Geometry(f"{lk.name}_collision", "mesh", (), collision_mesh_file(lk.name))
         cob_link = tuple(float(v) for v in np.asarray(cob) - np.asarray(lk.origin_m))
-        links.append(Link(lk.name, lk.inertial, (visual,), (collision,), tuple(fluid), float(V), cob_link))
+        links.append(Link(lk.name, lk.inertial, (visual,), (collision,), tuple(fluid), float(V), cob_link,
+                          None if water is None else water.shifted(lk.origin_m)))
     joints, tendons, actuators = [], [], []
     tau = joint_torque_limit_nm(p)
     arm = reflected_armature_kg_m2(p)

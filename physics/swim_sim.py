@@ -9,9 +9,10 @@ Joint commands: the relative joint angles of the travelling wave (physics.kinema
 form), faded in over ``ramp_s`` (the paper's start-up transient is 0.5-1 s), fed to the position actuators.
 
 Root: ``planar=False`` keeps the file's free joint. ``planar=True`` replaces it (in memory, ``mujoco.MjSpec``)
-by surge x, sway y and yaw z, the way a fish is held level in a swimming test: the default design's COM lies
-31 mm ahead of its centre of buoyancy (mass_properties.json), so the free fish hangs nose-down within a second
-or two and its +x speed is no longer a swimming speed. Speeds are measured along the fish's mean heading.
+by surge x, sway y and yaw z, the way a fish is held level in a swimming test. The default design is trimmed
+by its mass model (flooded tail, lead ballast: neutral, COM straight under the COB), so it also swims free and
+level; a design whose COM lies ahead of its COB would hang nose-down. Speeds are measured along the fish's mean
+heading.
 
 :func:`fluid_force_terms` splits MuJoCo's fluid force on one geom into the terms of its ellipsoid model, gives
 the part of the added-mass force MuJoCo leaves out, and Lighthill's elongated-body reactive thrust for the
@@ -127,14 +128,14 @@ class WaveDrive:
 def swim(model_path: str, params, frequency_hz: float | None = None, duration_s: float = 2.0,
          ramp_s: float = 0.5, amplitude_scale: float = 1.0, sample_every: int = 10, trim_neutral: bool = True,
          phase_lag_rad=None, initial_speed_m_s: float = 0.0, gravity: bool = True,
-         planar: bool = False, added_mass: bool = True) -> SwimResult:
+         planar: bool = False, added_mass: bool = True, initial_quat=None) -> SwimResult:
     """Run the fish in MuJoCo for ``duration_s`` with the wave at ``frequency_hz`` (default: design).
 
     ``trim_neutral``: scale every link's buoyancy by one factor so that buoyancy equals weight, as ballast
     trimming the fish neutral would (the design itself may be positively buoyant: mass_properties.json says by
     how much). ``phase_lag_rad``: optional per-joint phase lag added to the wave's command (joint j is fed
     the angle of time ``t - lag_j / omega``); None = the paper's wave. ``initial_speed_m_s``: start moving
-    forward (+x) at this speed. ``gravity`` False: no gravity and no buoyancy (a control run). ``planar``: see
+    forward (+x) at this speed. ``initial_quat``: the free fish's starting orientation (w, x, y, z). ``gravity`` False: no gravity and no buoyancy (a control run). ``planar``: see
     the module docstring. ``added_mass`` False: a diagnosis only, never a result: the virtual mass of every
     fluid geom zeroed, which removes MuJoCo's half of the added-mass force (see :func:`fluid_force_terms`).
     """
@@ -151,6 +152,10 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
         model.geom_fluid[:, 6:] = 0.0
     if initial_speed_m_s:
         data.qvel[0] = initial_speed_m_s
+    if initial_quat is not None:
+        if planar:
+            raise ValueError("initial_quat needs the free joint (planar=False)")
+        data.qpos[3:7] = np.asarray(initial_quat, dtype=float)
     drive = WaveDrive(model, params, frequency_hz, ramp_s, amplitude_scale, phase_lag_rad)
     rho_w = float(model.opt.density)
     g = float(-model.opt.gravity[2])

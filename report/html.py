@@ -315,13 +315,22 @@ def mass_section(p: Params, mp: dict | None, mp_note: str) -> str:
     t = mp["total"]
     g = p.environment.gravity_m_s2
     tiles = [tile("total mass", num(1000 * t["mass_kg"], ".0f", "g"), f"paper Table 2: {1000 * t.get('paper_mass_kg', 1.2):.0f} g"),
-             tile("displaced volume", num(1e6 * t["displaced_volume_m3"], ".0f", "cm\u00b3"), "sealed, skinned hull + fin"),
+             tile("displaced volume", num(1e6 * t["displaced_volume_m3"], ".0f", "cm\u00b3"), "sealed head + solids of the flooded tail"),
              tile("buoyancy", num(t["buoyancy_n"], ".2f", "N"), f"neutral mass {1000 * t['buoyancy_n'] / g:.0f} g"),
              tile("weight", num(t["weight_n"], ".2f", "N")),
              tile("net buoyancy", num(t["buoyancy_n"] - t["weight_n"], "+.2f", "N"),
                   "positive: floats", "good" if t["buoyancy_n"] >= t["weight_n"] else "warn"),
              tile("COB above COM", num(1000 * t.get("cob_above_com_m", float("nan")), "+.1f", "mm"),
-                  "positive: self-righting")]
+                  "positive: self-righting"),
+             tile("static pitch", num(t.get("static_pitch_deg", float("nan")), "+.1f", "deg"),
+                  "positive: nose down", "good" if abs(t.get("static_pitch_deg", 90.0)) <= p.environment.max_static_pitch_deg
+                  else "warn")]
+    trim = mp.get("trim", {})
+    if trim.get("possible"):
+        tiles.append(tile("trim ballast", num(1000 * trim["mass_kg"], ".1f", "g"),
+                          f"lead sphere at {trim['station_fraction']:.3f} L, z {1000 * trim['z_m']:.0f} mm"))
+    elif trim.get("enabled"):
+        tiles.append(tile("trim ballast", "none", esc(trim.get("reason", "")), "warn"))
     out = [mp_note and f'<p class="lead">{esc(mp_note)}</p>' or "", f'<div class="tiles">{"".join(tiles)}</div>']
     links = mp.get("links", [])
     if links:

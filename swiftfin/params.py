@@ -173,6 +173,10 @@ def cross_field_problems(p: Params) -> list[Problem]:
         out.append(Problem("joints.stations_fraction", list(st),
                            f"the last joint must lie ahead of the hull end (body.hull_end_fraction = "
                            f"{p.body.hull_end_fraction:g})"))
+    if p.hull.flooded_from_joint > j.count + 1:
+        out.append(Problem("hull.flooded_from_joint", p.hull.flooded_from_joint,
+                           f"must be a joint 1..{j.count}, or {j.count + 1} for a hull sealed throughout "
+                           f"(joints.count = {j.count})"))
     m = p.motor
     if len(m.pullout_curve_steps_per_s) != len(m.pullout_curve_torque_nm):
         out.append(Problem("motor.pullout_curve_torque_nm", list(m.pullout_curve_torque_nm),

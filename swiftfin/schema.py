@@ -59,6 +59,14 @@ class Hull:
     split_halves: bool = p(True, doc="Split each hull segment into upper and lower halves at z = 0 "
                                      "(flat print face, assembly access)", source="Engineering default")
     screw_diameter_mm: float = p(2.0, 1.6, 4.0, "Screws joining hull halves and bulkheads (M2)", "Engineering default")
+    flooded_from_joint: int = p(1, 1, 9, "Hull segments behind this joint are free-flooding: water enters through "
+                                "their bulkhead cable holes and a vent at the top and bottom; ahead of it the "
+                                "hull is sealed (joints.count + 1: all sealed)",
+                                "Design choice: cables cross every tail bulkhead, so the tail cannot stay dry; "
+                                "the head is dry, its cables leave through the PTFE tubes potted in its rear "
+                                "bulkhead")
+    vent_hole_diameter_mm: float = p(4.0, 1.5, 12.0, "Vent holes at the top and bottom of each flooded segment "
+                                     "(air out at the top, water in at the bottom)", "Engineering default")
 
 
 @dataclass(frozen=True)
@@ -148,6 +156,8 @@ class Guides:
     min_bend_radius_mm: float = p(20.0, 2.0, 100.0, "Minimum bend radius of the PTFE tube",
                                   "2 x 4 mm PTFE tube (20-25 mm)")
     mu_ptfe: float = p(0.05, 0.01, 0.5, "Cable-on-PTFE friction coefficient", f"{PAPER} §2.3.3 (0.05)")
+    ptfe_density_kg_m3: float = p(2180.0, 1500.0, 2500.0, "Density of the PTFE tube",
+                                  "PTFE 2.13-2.20 g/cm^3 (ASTM D4894 resin datasheets)")
     screw_diameter_mm: float = p(2.0, 1.6, 4.0, "Guide mounting screws (M2)", "Engineering default")
 
 
@@ -182,6 +192,13 @@ class Environment:
     buoyancy_band_fraction: float = p(0.05, 0.0, 0.5,
                                       "Allowed |buoyancy - weight| / weight for near-neutral trim",
                                       "Engineering default")
+    max_static_pitch_deg: float = p(5.0, 0.0, 45.0, "Largest pitch the fish may settle at in still water "
+                                    "(atan of the COM's lead over the COB / the COB's height over the COM)",
+                                    "Engineering default")
+    trim_ballast: bool = p(True, doc="Add the lead ballast that makes the fish neutral and level (mass and place "
+                                     "computed from the mass model; it is listed as the part trim_ballast)",
+                           source="Engineering default")
+    ballast_density_kg_m3: float = p(11340.0, 2000.0, 20000.0, "Density of the trim ballast", "Lead (11.34 g/cm^3)")
 
 
 @dataclass(frozen=True)

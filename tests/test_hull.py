@@ -159,6 +159,26 @@ def test_cable_passages_where_routes_cross_bulkheads(hull_parts):
     assert n_cross == 32
 
 
+def test_flooded_segments_have_vents_top_and_bottom_and_the_head_has_none(hull_parts):
+    """hull.flooded_from_joint = 1: every piece behind joint 1 has a vent through the top and the bottom of its
+    shell, at the middle of its cavity on the centre line; the sealed head pieces have none there."""
+    from cad.hull import _cavity_range, flooded
+    t, r = P.hull.wall_thickness_mm, P.hull.vent_hole_diameter_mm / 2
+    n_vented = 0
+    for pc in hull_pieces(P):
+        c0, c1 = _cavity_range(P, pc)
+        s = 0.5 * (max(c0, pc.s_start_mm) + min(c1, pc.s_end_mm))
+        _, b = hull_section_semi_axes_mm(P, s)
+        for sg, half in ((1, "upper"), (-1, "lower")):
+            solid = hull_parts[f"{pc.name}_{half}"].solid
+            in_wall = bd.Vector(-s, 0.0, sg * (b - t / 2))
+            beside = bd.Vector(-s + r + 1.0, 0.0, sg * (b - t / 2))     # 1 mm beyond the vent's edge: wall
+            assert solid.is_inside(beside) or not flooded(P, pc.link), (pc.name, half)
+            assert solid.is_inside(in_wall) != flooded(P, pc.link), (pc.name, half)
+        n_vented += flooded(P, pc.link)
+    assert n_vented == len([pc for pc in hull_pieces(P) if pc.link >= 1]) == 4
+
+
 def test_mount_fixing_holes_go_through_the_wall(hull_parts):
     t = P.hull.wall_thickness_mm
     fixings = L.mount_fixings_mm(P)

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from build123d import Axis, Box, Cylinder, Location, Pos
 
+from cad import layout
 from cad.part import PartSpec
 from exports import massprops as mp
 from swiftfin.errors import BuildError
@@ -264,3 +265,65 @@ def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_param
             print(f"| {label} | {pred:.0f} | {got:.0f} | {err:+.2f} |")
     bad = [r for r in rows if abs(r[3]) > 5.0]
     assert not bad, bad
+
+
+def test_ptfe_tube_mass_is_tube_section_times_channel_length_in_the_blocks(default_params):
+    """The PTFE pieces: mass = rho pi (OD^2 - ID^2) / 4 x the channel centre-line length inside each guide
+    block, the length measured independently on the B-rep wire (build123d) clipped by a slab of the block's
+    x range."""
+    import build123d as bd
+    from cad.guide import channel_path, guide_blocks
+    p = default_params
+    g = p.guides
+    rho_l = g.ptfe_density_kg_m3 * math.pi * (g.ptfe_tube_od_mm**2 - g.ptfe_tube_id_mm**2) / 4 * 1e-6   # kg/m
+    length_mm = 0.0
+    for b in guide_blocks(p):
+        x_lo, x_hi = b.x_mm
+        slab = bd.Solid.make_box(x_hi - x_lo, 2000, 2000).translate((x_lo, -1000, -1000))
+        for ch in b.channels:
+            length_mm += sum(e.length for e in channel_path(ch).intersect(slab).edges())
+    tubes = mp.ptfe_tube_masses(p)
+    total = sum(t.inertial.mass_kg for t in tubes)
+    assert length_mm > 100.0
+    assert total == pytest.approx(rho_l * length_mm / 1000, rel=1e-3)
+    assert {t.link for t in tubes} == {0}          # every guide sits in the head
+    for t in tubes:
+        mp.check_tensor(t.label, t.inertial.inertia, t.inertial.mass_kg)     # raises if not a valid tensor
+
+
+# ----------------------------------------------------------------------------------------------- flooding & trim
+def test_envelope_inertial_matches_the_envelope_volume_and_centroid(default_params):
+    """Two independent integrations of the hull envelope (slice discs here, 4001-point quadrature in
+    envelope_volume_mm3) agree; the inertia is positive-definite and slender (I_xx the smallest)."""
+    p = default_params
+    s0, s1 = layout.joint_stations_mm(p)[0], layout.joint_stations_mm(p)[1]
+    it = mp.envelope_inertial(p, s0, s1, 1000.0)
+    V_mm3, s_c = mp.envelope_volume_mm3(p, s0, s1)
+    assert it.mass_kg == pytest.approx(1000.0 * V_mm3 * 1e-9, rel=1e-4)
+    assert it.com[0] == pytest.approx(-s_c / 1000, rel=1e-5)
+    mp.check_tensor("envelope", it.inertia, it.mass_kg)
+
+
+@pytest.mark.parametrize("ballast_link_flooded", [True, False])
+def test_trim_ballast_makes_the_fish_neutral_and_level(default_params, ballast_link_flooded):
+    """The ballast solves both equations exactly: M + m = rho (V + v) and COM_x = COB_x after adding it
+    (v = m / rho_lead in a flooded link, 0 in a sealed one)."""
+    p = default_params
+    rho, rho_b = p.environment.water_density_kg_m3, p.environment.ballast_density_kg_m3
+    M, V = 1.70, 1.72e-3
+    com, cob = np.array([-0.170, 0, -0.008]), np.array([-0.172, 0, 0.0])
+    flooded = (False,) + (ballast_link_flooded,) * p.joints.count
+    t = mp.trim_ballast(p, M, com, V, cob, flooded)
+    assert t["possible"] and t["in_flooded_link"] == ballast_link_flooded
+    m = t["mass_kg"]
+    v = m / rho_b if ballast_link_flooded else 0.0
+    assert M + m == pytest.approx(rho * (V + v), rel=1e-12)
+    x = t["x_m"]
+    assert (M * com[0] + m * x) / (M + m) == pytest.approx((V * cob[0] + v * x) / (V + v), abs=1e-12)
+    assert x < cob[0]                                    # nose-heavy: the ballast goes aft of the COB
+    assert t["z_m"] < 0                                  # on the hull floor
+
+
+def test_trim_ballast_refuses_a_sinking_fish(default_params):
+    t = mp.trim_ballast(default_params, 2.0, (-0.17, 0, 0), 1.5e-3, (-0.17, 0, 0), (False,) * 5)
+    assert not t["possible"] and "sinks" in t["reason"]

@@ -41,7 +41,9 @@ def test_files_written(built):
         assert (out / "robot" / "meshes" / f"{lk.name}_collision.obj").is_file()
     data = json.loads((out / "mass_properties.json").read_text())
     labels = {pt["label"] for pt in data["parts"]}
-    assert labels - {pt.label for pt in parts} == {c.label for c in massprops.cable_masses(p)}
+    assert labels - {pt.label for pt in parts} == ({c.label for c in massprops.cable_masses(p)}
+                                                   | {t.label for t in massprops.ptfe_tube_masses(p)}
+                                                   | ({"trim_ballast"} if data["trim"].get("possible") else set()))
     assert sum(lk["mass_kg"] for lk in data["links"]) == pytest.approx(data["total"]["mass_kg"], rel=1e-12)
     for lk in data["links"]:
         lo, hi = lk["ranges"]["mass_kg"]
@@ -110,7 +112,11 @@ def test_mujoco_compiles_without_warnings_and_matches(built):
     assert all(w.number == 0 for w in data.warning), [mujoco.mjtWarning(i).name for i, w in
                                                       enumerate(data.warning) if w.number]
     root = ET.parse(out / "robot" / "swiftfin.xml").getroot()
-    for name, lk in _links(res).items():
+    rho = p.environment.water_density_kg_m3
+    for name, lk_dry in _links(res).items():
+        # MuJoCo's model is the fish in water: a flooded link carries the water inside it
+        inertial, V, cob = res["robot"].link(name).in_water(rho)
+        lk = type("InWater", (), {"inertial": inertial})
         b = model.body(name)
         assert b.mass[0] == pytest.approx(lk.inertial.mass_kg, rel=1e-6)
         assert np.allclose(b.ipos, lk.inertial.com_m, rtol=1e-6, atol=1e-12)
@@ -125,9 +131,11 @@ def test_mujoco_compiles_without_warnings_and_matches(built):
         el = root.find(f".//body[@name='{name}']/inertial")
         full = [float(v) for v in el.get("fullinertia").split()]
         assert full == [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
-        # buoyancy: gravcomp = rho_w V / m
-        V = res["robot"].link(name).displaced_volume_m3
-        assert model.body_gravcomp[b.id] == pytest.approx(p.environment.water_density_kg_m3 * V / lk.inertial.mass_kg)
+        # buoyancy: gravcomp = rho_w V / m, V the link's displacement plus its water's volume
+        assert model.body_gravcomp[b.id] == pytest.approx(rho * V / lk.inertial.mass_kg)
+        assert np.allclose(model.site(f"{name}_cob").pos, cob, atol=1e-12)
+        if res["robot"].link(name).entrained_water is None:
+            assert inertial is lk_dry.inertial
     assert model.opt.density == p.environment.water_density_kg_m3
     assert model.opt.viscosity == p.environment.water_viscosity_pa_s
     stops = layout.joint_stop_angles_rad(p)

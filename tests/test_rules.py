@@ -51,7 +51,7 @@ def test_registry_is_data():
     assert {"paper.drum_to_cable", "paper.pretension_fraction", "paper.holding_torque", "paper.cable_diameter",
             "paper.cable_elongation", "paper.guide_friction", "paper.guides_per_route", "physics.capstan_no_slip",
             "physics.no_slack_side", "physics.stepper_pullout", "physics.microstep_resolution", "physics.strouhal",
-            "print.hull_wall", "print.bed_fit", "float.upright", "float.net_buoyancy"} <= set(ids)
+            "print.hull_wall", "print.bed_fit", "float.upright", "float.net_buoyancy", "float.level"} <= set(ids)
 
 
 def test_default_design_verdicts(default_findings):
@@ -124,6 +124,13 @@ def test_mass_properties_drive_the_floating_rules():
     assert fs["float.upright"].value == pytest.approx(10.0) and fs["float.upright"].severity is Severity.PASS
     assert fs["float.net_buoyancy"].value == pytest.approx(0.016667, abs=1e-6)
     assert fs["float.net_buoyancy"].severity is Severity.PASS
+    assert fs["float.level"].value == pytest.approx(0.0, abs=1e-9) and fs["float.level"].severity is Severity.PASS
+    # the sealed default design before trimming: COM 30 mm ahead of the COB, 7.5 mm below it -> 76 deg nose down
+    nose_heavy = MassProperties(1.7, (-0.170, 0, -0.0075), (-0.200, 0, 0.0), 1.7e-3)
+    fl = _by_id(run_rules(RuleContext(Params(), mass_properties=nose_heavy),
+                          [r for r in RULES if r.rule_id == "float.level"]))["float.level"]
+    assert fl.value == pytest.approx(math.degrees(math.atan2(30.0, 7.5)), rel=1e-9)
+    assert fl.severity is Severity.FAIL and "nose-down" in fl.detail
     capsized = MassProperties(1.2, (-0.2, 0, 0.01), (-0.2, 0, 0.0), 1.5e-3)
     fs = _by_id(run_rules(RuleContext(Params(), mass_properties=capsized),
                           [r for r in RULES if r.rule_id.startswith("float.")]))
