@@ -1454,7 +1454,8 @@ def concat_contexts(ctxs: list[Context]) -> Context:
                    np.concatenate([c.base for c in ctxs]),
                    np.vstack([c.base_columns.reshape(c.n, -1) for c in ctxs]),
                    {k: np.concatenate([c.signals[k] for c in ctxs]) for k in keys},
-                   " + ".join(c.source for c in ctxs), np.concatenate(series), dict(ctxs[0].meta))
+                   " + ".join(c.source for c in ctxs), np.concatenate(series),
+                   {k: v for k, v in ctxs[0].meta.items() if not k.startswith("_")})   # "_": per-record caches
 
 
 def _jsonable(x):

@@ -40,6 +40,7 @@ class Column:
                       degree-detection bound: values above it that fit below it once multiplied by pi/180
                       are reported as degrees.
     doc : str         meaning, for messages and the report.
+    optional : bool   used when present, not required (a second sensor); checked like the others when there.
     """
 
     name: str
@@ -47,6 +48,7 @@ class Column:
     kind: str = "value"
     max_abs: float = math.inf
     doc: str = ""
+    optional: bool = False
 
 
 @dataclass
@@ -102,6 +104,7 @@ def read_log(path: str | Path, columns: tuple[Column, ...] | list[Column], *, ma
         raise UserError(f"{what}{path}: empty file, expected a header "
                         f"'{','.join(c.name for c in columns)}' and data rows")
     header = [h.strip() for h in rows[0]]
+    columns = [c for c in columns if not c.optional or c.name in header]
     missing = [c for c in columns if c.name not in header]
     if missing:
         msgs = []
@@ -110,7 +113,7 @@ def read_log(path: str | Path, columns: tuple[Column, ...] | list[Column], *, ma
             hint = f" (did you mean '{close[0]}'? rename it to '{c.name}')" if close else ""
             msgs.append(f"missing column '{c.name}' [{c.unit}]{hint}")
         raise UserError(f"{what}{path}: " + "; ".join(msgs) + f". Header found: {','.join(header)}; "
-                        f"required: {','.join(c.name for c in columns)}")
+                        f"required: {','.join(c.name for c in columns if not c.optional)}")
     body = rows[1:]
     n = len(body)
     if n < min_rows:

@@ -24,8 +24,11 @@ This fixes what can and cannot be told apart from the joint angle alone:
   would not be.
 * ``coulomb_friction`` seen through the cable is the play operator of half-width tau_c / K; a ``backlash`` dead
   band held by friction (spool loose on the shaft flat, set screw) is the play operator of half-width gap / 2.
-  Identical fingerprints in a joint-angle log: the engine names one and reports the other as
-  ``indistinguishable_from``. A motor-side encoder or a torque measurement would separate them.
+  Identical fingerprints in a joint-angle log: without a second sensor the engine names one and reports the
+  other as ``indistinguishable_from``. An inline load cell on one cable side (the optional column
+  ``cable_tension_n``) separates them: friction holds the joint by torque, so the tension steps by
+  tau_c / (2 d_mount) at each reversal; a dead band passes no torque and leaves no step
+  (:func:`tension_step_n`, used as each one's plausibility check).
 * ``viscous_friction`` (first-order lag c / K) and ``sensor_delay`` (pure delay) agree to first order in
   frequency; the bench command's small high-frequency components (up to 14 Hz) separate them through the
   second-order term (a lag loses gain, a delay does not).
@@ -83,6 +86,7 @@ COLUMNS = (
     Column("time_s", "s", "time", doc="time"),
     Column("motor_angle_rad", "rad", "angle", 4 * math.pi, "commanded motor angle"),
     Column("joint_angle_rad", "rad", "angle", math.pi / 2, "joint angle"),
+    Column("cable_tension_n", "N", "value", 5000.0, "tension of one cable side (inline load cell)", optional=True),
 )
 
 
@@ -133,8 +137,10 @@ def rigid_joint_angle(motor_angle_rad: np.ndarray, d: JointDesign) -> np.ndarray
     return d.ratio * d.microstep_rad * np.rint(np.asarray(motor_angle_rad, float) / d.microstep_rad)
 
 
-def joint_context(t: np.ndarray, motor: np.ndarray, joint: np.ndarray, d: JointDesign, source: str = "<memory>") -> Context:
-    """Context for the joint family from arrays (the loader's second half; synthetic tests use it directly)."""
+def joint_context(t: np.ndarray, motor: np.ndarray, joint: np.ndarray, d: JointDesign, source: str = "<memory>",
+                  tension: np.ndarray | None = None) -> Context:
+    """Context for the joint family from arrays (the loader's second half; synthetic tests use it directly).
+    ``tension``: the optional load-cell column (tension of one cable side [N])."""
     t = np.asarray(t, float)
     base = rigid_joint_angle(motor, d)
     dt = op.uniform_dt(t)
@@ -147,6 +153,8 @@ def joint_context(t: np.ndarray, motor: np.ndarray, joint: np.ndarray, d: JointD
     signals = {"input": np.asarray(motor, float), "position": base, "velocity": vel, "acceleration": acc,
                "motion": motion,
                "motor_acceleration": macc, "travel": op.travel(d.ratio * smooth_motor), "time": t - t[0]}
+    if tension is not None:
+        signals["tension"] = np.asarray(tension, float)
     return Context(t, np.asarray(joint, float), base, np.zeros((t.size, 0)), signals, source,
                    meta={"design": d, "dt_s": dt})
 
@@ -188,7 +196,8 @@ def load(path: str | Path, design: Params, joint: int | None = None, notes: list
     if notes is not None:
         notes.extend(log.notes)
     d = joint_design(design, joint)
-    ctx = joint_context(log["time_s"], log["motor_angle_rad"], log["joint_angle_rad"], d, str(path))
+    ctx = joint_context(log["time_s"], log["motor_angle_rad"], log["joint_angle_rad"], d, str(path),
+                        tension=log.columns.get("cable_tension_n"))
     check_excitation(ctx, str(path))
     return ctx
 
@@ -331,13 +340,62 @@ def _quadratic_drag() -> Effect:
               fingerprint_axis="velocity", columns_fn=cols, physical_fn=phys)
 
 
-def _play_effect(name, meaning, fingerprint, pname, unit, lo, hi, to_half_width, phys):
+def tension_step_n(ctx: Context) -> tuple[float, float] | None:
+    """From the optional load cell: the step of the cable tension with the direction of the joint's motion [N]
+    and its standard error: |s| of the fit T = T0 + s sign(w) + c w over the samples where the joint moves
+    (w = measured joint speed, Savitzky-Golay over 30 ms, moving = above 10 % of its 95th percentile). Friction at
+    the hinge shows as s = tau_c / (2 d_mount); a dead band passes no torque and leaves s ~ 0. Computed on the
+    whole record (``meta['parent']``); the standard error is inflated x sqrt(20) for the residual's correlation.
+    None without a load cell."""
+    ctx = ctx.meta.get("parent", ctx)
+    T = ctx.signals.get("tension")
+    if T is None:
+        return None
+    cached = ctx.meta.get("_tension_step")
+    if cached is not None:
+        return cached
+    w = op.derivative(ctx.t, ctx.y, window_s=0.03, order=1)
+    moving = np.abs(w) > 0.1 * np.percentile(np.abs(w), 95)
+    X = np.column_stack([np.ones(moving.sum()), np.sign(w[moving]), w[moving]])
+    coef, *_ = np.linalg.lstsq(X, T[moving], rcond=None)
+    r = T[moving] - X @ coef
+    sigma = float(np.sqrt(r @ r / max(r.size - X.shape[1], 1)))
+    se = sigma * float(np.sqrt(np.linalg.pinv(X.T @ X)[1, 1])) * math.sqrt(20.0)
+    out = (abs(float(coef[1])), se)
+    ctx.meta["_tension_step"] = out
+    return out
+
+
+def _hysteresis_by_load_cell(kind: str, half_width_of):
+    """Plausibility from the load cell: the fitted hysteresis (half-width h in joint angle) carried by friction
+    steps the tension by h K / (2 d_mount); a dead band does not. ``kind``: "friction" or "dead band"."""
+    def check(v, ctx):
+        meas = tension_step_n(ctx)
+        if meas is None:
+            return []
+        d = _d(ctx)
+        s_friction = half_width_of(v, ctx) * d.stiffness_nm_rad / (2.0 * d.moment_arm_m)
+        s, se = meas
+        if s_friction < 3.0 * se:
+            return []       # too small a hysteresis for the load cell to judge
+        if kind == "friction" and s < 0.5 * s_friction:
+            return [f"the load cell shows a tension step of {s:.3g} N at reversals where friction of this size would "
+                    f"give {s_friction:.3g} N: the hysteresis passes no torque (a dead band, not friction)"]
+        if kind == "dead band" and s > 0.5 * s_friction:
+            return [f"the load cell shows a tension step of {s:.3g} N at reversals ({s_friction:.3g} N if this "
+                    f"hysteresis were friction): the joint is held by torque, so it is friction, not a dead band"]
+        return []
+    return check
+
+
+def _play_effect(name, meaning, fingerprint, pname, unit, lo, hi, to_half_width, phys, kind):
     def cols(ctx, nl):
         h = to_half_width(ctx, nl[pname])
         return op.play(ctx.base, h) - ctx.base
     return _E(name=name, meaning=meaning, fingerprint=fingerprint, linear=(_unit_coef(),),
               nonlinear=(Param(pname, unit, lo, hi, "", scale="log", grid=16),), fingerprint_axis="velocity",
-              columns_fn=cols, physical_fn=phys)
+              columns_fn=cols, physical_fn=phys,
+              plausible_fn=_hysteresis_by_load_cell(kind, lambda v, ctx: to_half_width(ctx, v[pname]) * v["gain"]))
 
 
 def _coulomb() -> Effect:
@@ -350,7 +408,7 @@ def _coulomb() -> Effect:
         "stretching the cable; the joint sticks at each reversal until the cable has wound up 2 tau_c / K.",
         "a step in the residual at zero velocity (residual = -tau_c/K sign(velocity)), hysteresis after each "
         "reversal: residual against velocity",
-        "friction_torque_nm", "N m", 1e-4, 0.5, lambda ctx, x: x / _d(ctx).stiffness_nm_rad, phys)
+        "friction_torque_nm", "N m", 1e-4, 0.5, lambda ctx, x: x / _d(ctx).stiffness_nm_rad, phys, "friction")
 
 
 def _backlash() -> Effect:
@@ -363,7 +421,7 @@ def _backlash() -> Effect:
         "the motor turns through the gap before the joint follows (paper eq. 37).",
         "the residual jumps by the gap at each reversal and stays at +-gap/2 against the motion: concentrated "
         "after reversals, residual against velocity",
-        "gap_rad", "rad", 2e-4, 0.2, lambda ctx, x: 0.5 * x, phys)
+        "gap_rad", "rad", 2e-4, 0.2, lambda ctx, x: 0.5 * x, phys, "dead band")
 
 
 def _creep() -> Effect:

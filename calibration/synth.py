@@ -6,7 +6,10 @@ spool (loose on the shaft: ``backlash``; radius x ``effective_radius``; cable cr
 of stiffness E A / L each (x ``cable_compliance``; a side goes slack when the load exceeds 2 T0 d_mount;
 ``_integrate`` also supports a dead band in the cable itself) -> joint: (J0 + J_added) theta'' = tau_cable - (c0 + c) theta' - b theta'|theta'|
 - tau_c sign(theta') (stick when the cable torque is below tau_c) -> sensor (``sensor_delay``, ``offset``,
-Gaussian noise then 12-bit quantisation, the AS5600 magnetic encoder's 4096 counts per turn).
+Gaussian noise then 12-bit quantisation, the AS5600 magnetic encoder's 4096 counts per turn). The bench also
+has an inline load cell on cable side A: ``cable_tension_n`` = max(0, T0 + k m (u - theta)) with
+:data:`LOAD_CELL_NOISE_N` of noise (the log's optional second sensor; ``swiftfin synth --no-load-cell`` leaves
+it out).
 
 Integration: semi-implicit Euler (damping terms implicit, stick-slip by Karnopp's rule) at a fixed step of
 ``1 / (rate_hz * substeps)`` (default 0.2 ms; the stiffest default mode, sqrt(K / J0) ~ 600 rad/s, gives
@@ -68,6 +71,8 @@ ENVELOPE_PERIOD_S = 17.0
 #: sensor: 12-bit magnetic encoder (AS5600) plus electrical noise
 ENCODER_COUNTS = 4096
 NOISE_RAD = 1.0e-3
+#: inline load cell (5 kg S-beam, HX711 at 80 Hz): noise of the tension reading
+LOAD_CELL_NOISE_N = 0.02
 
 
 def bench_command(t: np.ndarray, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -101,6 +106,7 @@ class SynthLog:
     effects: dict[str, float]
     n_slips: int
     integrator: str
+    cable_tension_n: np.ndarray | None = None    # load cell on cable side A [N]
 
 
 def parse_effects(specs: list[str] | None) -> dict[str, float]:
@@ -204,7 +210,11 @@ def simulate_joint(d: JointDesign, effects: dict[str, float] | None = None, *, d
         qenc = 2 * np.pi / encoder_counts
         meas = qenc * np.rint(meas / qenc)
     motor_log = steps[::substeps] * d.microstep_rad
-    return SynthLog(ts, motor_log, meas, true, eff, n_slips, integrator)
+    # load cell on side A: pretension plus the cable's share of the joint torque (k m (u - theta)), never < 0
+    k_side = K / (2.0 * m * m)
+    tension = np.maximum(0.0, t0 + k_side * m * (u[::substeps] - true))
+    tension = tension + np.random.default_rng(seed + 104729).normal(0.0, LOAD_CELL_NOISE_N, ts.size)
+    return SynthLog(ts, motor_log, meas, true, eff, n_slips, integrator, tension)
 
 
 def _integrate(u, h, K, J, c, b, tc, gap, m, t0) -> np.ndarray:

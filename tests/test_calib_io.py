@@ -198,3 +198,18 @@ def test_holdout_argument():
 def test_unknown_family(tmp_path, capsys):
     code = main(["fit", "tail", "x.csv", "--design", str(DEFAULT_DESIGN)])
     assert code == 2 and "unknown family 'tail'" in capsys.readouterr().err
+
+
+def test_optional_load_cell_column_is_checked_when_present(good_rows, tmp_path, capsys):
+    """cable_tension_n is optional: absent, the fit runs without it; present with a bad cell, the message names
+    the column and the row (exit 2)."""
+    rows = [list(r) + [45.0] for r in good_rows]
+    rows[7][3] = "heavy"
+    path = write(tmp_path / "lc.csv", rows, header=HEADER + ",cable_tension_n")
+    code, out = fit(path, tmp_path, capsys)
+    assert code == 2
+    assert "column 'cable_tension_n' row 9: 'heavy' is not a number" in out.err
+    assert "Traceback" not in out.err
+    log = read_log(write(tmp_path / "plain.csv", good_rows), [Column("time_s", "s", "time"),
+                                                              Column("cable_tension_n", "N", optional=True)])
+    assert "cable_tension_n" not in log.columns

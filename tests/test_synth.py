@@ -141,9 +141,30 @@ def test_cli_writes_joint_log(tmp_path, capsys):
                  "--seed", "5", "--duration", "3", "--design", str(DEFAULT_DESIGN)])
     assert code == 0
     lines = out.read_text().splitlines()
-    assert lines[0] == "time_s,motor_angle_rad,joint_angle_rad"
+    assert lines[0] == "time_s,motor_angle_rad,joint_angle_rad,cable_tension_n"
     assert len(lines) == 3001
     assert "backlash=0.01" in capsys.readouterr().out
+    tension = np.loadtxt(out, delimiter=",", skiprows=1)[:, 3]
+    assert tension.mean() == pytest.approx(45.0, abs=0.5)        # the design's pretension, read by the load cell
+    bare = tmp_path / "bare.csv"
+    assert main(["synth", "joint", "--no-load-cell", "--out", str(bare), "--duration", "3",
+                 "--design", str(DEFAULT_DESIGN)]) == 0
+    assert bare.read_text().splitlines()[0] == "time_s,motor_angle_rad,joint_angle_rad"
+
+
+def test_load_cell_sees_friction_torque_and_not_a_dead_band(d):
+    """The load cell reads T0 + tau / (2 d_mount): hinge friction steps it by tau_c / (2 d_mount) with the
+    direction of motion; a dead band at the spool hub passes no torque (step within noise)."""
+    from calibration.joint import joint_context, tension_step_n
+    tc = 0.02
+    fr = simulate_joint(d, {"coulomb_friction": tc}, seed=3, duration_s=20)
+    bl = simulate_joint(d, {"backlash": 0.01}, seed=3, duration_s=20)
+    s_fr, se_fr = tension_step_n(joint_context(fr.t, fr.motor_angle_rad, fr.joint_angle_rad, d,
+                                               tension=fr.cable_tension_n))
+    s_bl, se_bl = tension_step_n(joint_context(bl.t, bl.motor_angle_rad, bl.joint_angle_rad, d,
+                                               tension=bl.cable_tension_n))
+    assert s_fr == pytest.approx(tc / (2 * d.moment_arm_m), rel=0.1)
+    assert s_bl < 0.05 * s_fr and s_bl < 3 * se_bl + 0.01
 
 
 def test_cli_bad_effect_exit_2(tmp_path, capsys):

@@ -24,6 +24,8 @@ def register(sub) -> None:
     ap.add_argument("--duration", type=float, default=40.0, help="log length [s] (default 40)")
     ap.add_argument("--rate", type=float, default=1000.0, help="sample rate [Hz] (default 1000)")
     ap.add_argument("--noise", type=float, default=None, help="sensor noise [rad] (default 1e-3)")
+    ap.add_argument("--no-load-cell", action="store_true",
+                    help="leave out the cable_tension_n column (a bench without a load cell)")
     ap.set_defaults(func=run)
 
 
@@ -45,8 +47,10 @@ def run(args) -> int:
         raise UserError(f"--noise {noise}: must be >= 0 rad")
     d = joint_design(load_design(args.design), None if args.joint is None else args.joint - 1)
     log = simulate_joint(d, effects, duration_s=args.duration, rate_hz=args.rate, noise_rad=noise, seed=args.seed)
-    write_log(args.out, {"time_s": log.t, "motor_angle_rad": log.motor_angle_rad,
-                         "joint_angle_rad": log.joint_angle_rad})
+    cols = {"time_s": log.t, "motor_angle_rad": log.motor_angle_rad, "joint_angle_rad": log.joint_angle_rad}
+    if not args.no_load_cell:
+        cols["cable_tension_n"] = log.cable_tension_n
+    write_log(args.out, cols)
     desc = ", ".join(f"{k}={v:g}" for k, v in effects.items()) or "none"
     print(f"{args.out}: {log.t.size} samples, joint {d.joint + 1}, effects: {desc} ({log.integrator}"
           + (f", {log.n_slips} slips" if "lost_steps" in effects else "") + ")")
