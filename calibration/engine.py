@@ -82,7 +82,7 @@ from __future__ import annotations
 import importlib
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Callable, Sequence
 
 import numpy as np
@@ -159,9 +159,11 @@ class Context:
         if stride <= 1:
             return self
         sl = slice(None, None, stride)
-        meta = dict(self.meta)
+        meta = {k: v for k, v in self.meta.items() if not k.startswith("_")}      # "_": caches of this record
         if "dt_s" in meta:
             meta["dt_s"] = meta["dt_s"] * stride
+        if "train_rows" in meta:
+            meta["train_rows"] = meta["train_rows"][sl]
         return Context(self.t[sl], self.y[sl], self.base[sl], self.base_columns[sl],
                        {k: v[sl] for k, v in self.signals.items()}, self.source,
                        None if self.series is None else self.series[sl], meta)
@@ -756,11 +758,16 @@ class Calibrator:
         return _Part(sub, part.train[idx] & ~warm, part.hold[idx] & ~warm)
 
     def _parts(self, train: Context, holdout: Context | None) -> list[_Part]:
+        """The records with their row masks. Each record's ``meta['train_rows']`` tells an effect which of its rows
+        the fit may learn from (an effect with discrete events may judge ambiguous ones there, never on held-out
+        rows; see calibration.joint.slip_events)."""
+        def part(ctx, tr, ho):
+            return _Part(replace(ctx, meta={**ctx.meta, "train_rows": tr}), tr, ho)
         if holdout is None:
             h = self._holdout_mask(train)
-            return [_Part(train, ~h, h)]
-        return [_Part(train, np.ones(train.n, bool), np.zeros(train.n, bool)),
-                _Part(holdout, np.zeros(holdout.n, bool), np.ones(holdout.n, bool))]
+            return [part(train, ~h, h)]
+        return [part(train, np.ones(train.n, bool), np.zeros(train.n, bool)),
+                part(holdout, np.zeros(holdout.n, bool), np.ones(holdout.n, bool))]
 
     # ------------------------------------------------------------------------------------ model evaluation
     def _shared(self, effects: list) -> dict:

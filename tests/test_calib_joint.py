@@ -13,11 +13,6 @@ from calibration.joint import EQUIVALENT, FAMILY, joint_context, joint_design
 from calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, simulate_joint
 
 FLOOR_FACTOR = 1.5   # "near the noise level": held-out RMSE within 1.5 x that of a clean log (noise + floor)
-#: Lost steps are predicted from the commanded acceleration crossing a threshold. Peaks within ~2 % of the
-#: threshold cannot be classified from a quantised command log (acceleration estimate noise ~2 rad/s^2), and each
-#: misclassified peak leaves a 4-full-step offset in the held-out blocks. So for lost_steps the test asks for the
-#: right name and a large drop (>= 50 %), not the noise level. Stated in the report as a known limit.
-UNPREDICTABLE_TO_NOISE = {"lost_steps"}
 
 
 @pytest.fixture(scope="module")
@@ -97,12 +92,8 @@ def test_confusion_matrix_single_effects(suite, matrix, record_property, request
     floor = suite["none"].final_["rmse_holdout"]
     wrong = [n for n in LIBRARY_EFFECTS if not named_correctly(n, suite[n])]
     assert not wrong, f"misnamed: {wrong}\n{matrix}"
-    high = [n for n in LIBRARY_EFFECTS if n not in UNPREDICTABLE_TO_NOISE
-            and suite[n].final_["rmse_holdout"] > FLOOR_FACTOR * floor]
+    high = [n for n in LIBRARY_EFFECTS if suite[n].final_["rmse_holdout"] > FLOOR_FACTOR * floor]
     assert not high, f"held-out error not near the noise level: {high}\n{matrix}"
-    for n in UNPREDICTABLE_TO_NOISE:
-        cal = suite[n]
-        assert cal.final_["rmse_holdout"] < 0.5 * cal.baseline_["rmse_holdout"], matrix
     # with the bench's load cell the twins are told apart: every effect is named exactly, with high confidence
     inexact = [n for n in LIBRARY_EFFECTS if suite[n].added_effects_[0].name != n]
     assert not inexact, f"named only as a twin: {inexact}\n{matrix}"
@@ -176,7 +167,7 @@ def test_physical_recovery_within_uncertainty(suite, name, param, true):
     ("sensor_delay", "delay_s", 0.010, 0.08),          # absorbs the bare link's ~0.3 ms lag
     ("added_mass", "added_inertia_kg_m2", 3e-4, 0.05),
     ("cable_compliance", "stiffness_factor", 0.1, 0.1),
-    ("lost_steps", "slip_rad", None, 0.15),              # 4 full steps x r / d_mount; marginal peaks bias it
+    ("lost_steps", "slip_rad", None, 0.02),              # 4 full steps x r / d_mount
     ("quadratic_drag", "drag_over_stiffness_s2", None, 0.15),
 ])
 def test_physical_recovery_with_model_error(suite, d, name, param, true, tol):
@@ -184,6 +175,10 @@ def test_physical_recovery_with_model_error(suite, d, name, param, true, tol):
     the statistical sigma is far below the model error: the value is checked against a stated tolerance."""
     if name == "lost_steps":
         true = -d.slip_quantum_rad
+        # the threshold: the estimate of the motor acceleration is noisy (1.9 rad/s^2 rms), the slip-or-not
+        # boundary between two peaks lies within the ambiguity band of the truth
+        thr = suite[name].added_effects_[0].values["slip_acceleration_rad_s2"]
+        assert thr == pytest.approx(EFFECT_DEFAULTS["lost_steps"][0], rel=0.05)
     if name == "quadratic_drag":
         true = EFFECT_DEFAULTS["quadratic_drag"][0] / d.stiffness_nm_rad
     fe = suite[name].added_effects_[0]

@@ -172,3 +172,24 @@ def test_cli_bad_effect_exit_2(tmp_path, capsys):
                  "--design", str(DEFAULT_DESIGN)])
     err = capsys.readouterr().err
     assert code == 2 and "unknown effect 'cogging_torque'" in err and "did you mean 'cogging'" in err
+
+
+def test_ambiguous_slips_are_judged_by_training_rows_only(d):
+    """calibration.joint.slip_events: with every row a training row, the slips near the threshold are decided by
+    the measured angle and match the simulator's; with none (a held-out record), the threshold alone decides."""
+    from calibration import effects as op
+    from calibration.joint import joint_context, slip_events
+    from calibration.synth import bench_command
+    log = simulate_joint(d, {"lost_steps": 160.0}, seed=22)
+    ctx = joint_context(log.t, log.motor_angle_rad, log.joint_angle_rad, d)
+    _, acc = bench_command(log.t, 22)
+    true_t, _ = op.threshold_crossings(log.t, acc / d.ratio, 160.0)
+    ctx.meta["train_rows"] = np.ones(ctx.n, bool)
+    judged, _ = slip_events(ctx, 160.0)
+    ctx.meta["train_rows"] = np.zeros(ctx.n, bool)
+    predicted, _ = slip_events(ctx, 160.0)
+    plain, _ = op.threshold_crossings(ctx.t, ctx.signals["motor_acceleration"], 160.0)
+    assert np.array_equal(predicted, plain)
+    assert judged.size == true_t.size == log.n_slips
+    assert np.abs(judged - true_t).max() < 0.005                  # the same events, to the slip ramp's timing
+    assert predicted.size != true_t.size or np.abs(predicted - true_t).max() > 0.005   # the command alone errs
