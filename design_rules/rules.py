@@ -38,15 +38,25 @@ class MassProperties:
 
     @classmethod
     def from_dict(cls, d: dict, source: str = "<mass properties>") -> "MassProperties":
-        """Validate ``{total_mass_kg, com_m: [x, y, z], cob_m: [x, y, z], displaced_volume_m3}``.
+        """Validate ``{total_mass_kg, com_m: [x, y, z], cob_m: [x, y, z], displaced_volume_m3}``, or a build's own
+        ``mass_properties.json`` (its ``total`` table: ``mass_kg``, ``com_m``, ``cob_m``, ``displaced_volume_m3``).
 
         Raises :class:`swiftfin.params.ParamError` listing every problem (exit 2 in the CLI)."""
         from swiftfin.params import ParamError
+        kind = "the mass-properties file"
         probs = []
         want = {"total_mass_kg": "a positive number [kg]", "displaced_volume_m3": "a positive number [m^3]",
                 "com_m": "a list of 3 finite numbers [m]", "cob_m": "a list of 3 finite numbers [m]"}
         if not isinstance(d, dict):
-            raise ParamError(source, [Problem("(file)", type(d).__name__, "expected a JSON object")])
+            raise ParamError(source, [Problem("(file)", type(d).__name__, "expected a JSON object")], kind)
+        if "total" in d:                       # the build's mass_properties.json
+            t = d["total"]
+            if not isinstance(t, dict):
+                raise ParamError(source, [Problem("total", t, "expected a table (a build's mass_properties.json)")],
+                                 kind)
+            d = {"total_mass_kg": t.get("mass_kg"), "com_m": t.get("com_m"), "cob_m": t.get("cob_m"),
+                 "displaced_volume_m3": t.get("displaced_volume_m3")}
+            d = {k: v for k, v in d.items() if v is not None}
         for k in d:
             if k not in want:
                 probs.append(Problem(k, d[k], f"unknown key: expected {', '.join(want)}"))
@@ -60,7 +70,7 @@ class MassProperties:
             if not ok:
                 probs.append(Problem(k, v if k in d else "(missing)", f"expected {what}"))
         if probs:
-            raise ParamError(source, probs)
+            raise ParamError(source, probs, kind)
         return cls(float(d["total_mass_kg"]), tuple(float(c) for c in d["com_m"]),
                    tuple(float(c) for c in d["cob_m"]), float(d["displaced_volume_m3"]))
 

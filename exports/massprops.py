@@ -840,11 +840,12 @@ def _ballast_part(p: Params, trim: dict) -> PartMass:
                     m / p.environment.ballast_density_kg_m3, 0.0, it, it, None, None, bbox)
 
 
-def _fin_outside_volume(p: Params, parts) -> tuple[float, np.ndarray, int]:
-    """Volume [mm^3] and centroid [mm] of the parts behind the hull end (the caudal fin), and their link."""
+def _fin_outside_volume(p: Params, parts) -> tuple[float, np.ndarray, int, list]:
+    """Volume [mm^3], centroid [mm] and link of the parts behind the hull end (the caudal fin), and the volume
+    properties of each piece (for the water a flooded link does not carry there)."""
     from build123d import Box, Pos
     x_end = -layout.hull_end_mm(p)
-    V, first, link = 0.0, np.zeros(3), -1
+    V, first, link, pieces = 0.0, np.zeros(3), -1, []
     for part in parts:
         bb = part.solid.bounding_box()
         if bb.min.X >= x_end:
@@ -856,7 +857,8 @@ def _fin_outside_volume(p: Params, parts) -> tuple[float, np.ndarray, int]:
             V += pr.volume_mm3
             first = first + pr.volume_mm3 * np.asarray(pr.centroid_mm)
             link = max(link, part.link)
-    return V, (first / V if V > 0 else first), link
+            pieces.append(pr)
+    return V, (first / V if V > 0 else first), link, pieces
 
 
 def _corner_inertials(parts_m: list[PartMass], pm: PrintModel, unc: dict, corner) -> list[Inertial]:
@@ -916,7 +918,7 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
     bounds = [0.0, *js, layout.hull_end_mm(params)]
     rho_w = params.environment.water_density_kg_m3
     flooded = tuple(j >= params.hull.flooded_from_joint for j in range(len(bounds) - 1))
-    V_fin, c_fin, fin_link = _fin_outside_volume(params, parts)
+    V_fin, c_fin, fin_link, fin_pieces = _fin_outside_volume(params, parts)
 
     def displacement(items: list[PartMass]):
         link_V, link_cob, water = [], [], []
@@ -940,10 +942,11 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
             # part behind the hull end was never inside the envelope)
             env = envelope_inertial(params, bounds[j], bounds[j + 1], rho_w)
             minus = [pt.solid.scaled_mass(-rho_w * pt.volume_solid_m3 / pt.solid.mass_kg) for pt in mine]
-            if V_fin > 0 and j == fin_link:
-                m_out = rho_w * units.volume_m3(V_fin)
-                minus.append(make_inertial(m_out, units.length_m(c_fin), np.zeros((3, 3))))
-            water.append(combine([env, *minus]))
+            if V_fin > 0 and j == fin_link:      # add back the fin's solid behind the hull end, at water density
+                minus += [pr.inertial(rho_w) for pr in fin_pieces]
+            w = combine([env, *minus])
+            check_tensor(f"water inside link {j}", w.inertia, w.mass_kg)
+            water.append(w)
         return link_V, link_cob, water
 
     link_V, link_cob, water = displacement(out)

@@ -28,16 +28,18 @@ class Problem:
 
     def __str__(self) -> str:
         v = "(missing)" if self.value is _MISSING else repr(self.value)
+        if len(v) > 80:
+            v = v[:60] + " ... " + v[-12:]      # a whole table or list says nothing more than its start
         return f"{self.key} = {v}: {self.expected}"
 
 
 class ParamError(ValueError):
     """All the problems of one parameter file. ``str()`` is the message the CLI prints."""
 
-    def __init__(self, source: str, problems: Iterable[Problem]):
+    def __init__(self, source: str, problems: Iterable[Problem], what: str = "the parameter file"):
         self.source = source
         self.problems = list(problems)
-        lines = [f"{source}: {len(self.problems)} problem(s) in the parameter file:"]
+        lines = [f"{source}: {len(self.problems)} problem(s) in {what}:"]
         lines += [f"  - {pr}" for pr in self.problems]
         super().__init__("\n".join(lines))
 

@@ -72,6 +72,23 @@ def test_bad_side_files_exit_2(tmp_path, capsys):
     assert main(["check", str(DEFAULT_DESIGN), "--parts-bbox", str(tmp_path / "missing.json")]) == 2
 
 
+def test_a_builds_own_mass_properties_file_is_accepted(tmp_path, capsys):
+    """`swiftfin check --mass-properties build/mass_properties.json` reads the build's `total` table; a bad one is
+    named as a mass-properties file, not a parameter file, with long values shortened."""
+    total = {"mass_kg": 1.73, "com_m": [-0.174, 0, -0.0075], "cob_m": [-0.174, 0, 0.0001],
+             "displaced_volume_m3": 1.73e-3, "inertia_kg_m2": {"ixx": 1e-3}}
+    mp = _write(tmp_path, "mass_properties.json", json.dumps({"units": "SI", "parts": [], "links": [], "total": total}))
+    out_json = tmp_path / "c.json"
+    main(["check", str(DEFAULT_DESIGN), "--mass-properties", mp, "--json", str(out_json)])
+    sev = {f["rule_id"]: f["severity"] for f in json.loads(out_json.read_text())["findings"]}
+    assert sev["float.upright"] == sev["float.net_buoyancy"] == sev["float.level"] == "PASS"
+    bad = _write(tmp_path, "bad_mp.json", json.dumps({"total": {"mass_kg": -1, "com_m": [0, 0]}, "x": list(range(99))}))
+    assert main(["check", str(DEFAULT_DESIGN), "--mass-properties", bad]) == 2
+    err = capsys.readouterr().err
+    assert "problem(s) in the mass-properties file" in err and "total_mass_kg = -1" in err
+    assert "Traceback" not in err
+
+
 def test_loads_flag_prints_sensitivities(capsys):
     assert main(["check", str(DEFAULT_DESIGN), "--loads"]) == 1
     out = capsys.readouterr().out

@@ -14,7 +14,8 @@ from cad.guide import channel_path, guide_blocks, guide_solid, make_guides
 from swiftfin.errors import UserError
 from swiftfin.params import replace_key
 from swiftfin.schema import Params
-from tests.test_spool import check_golden, mesh_of
+from tests.golden_check import check_golden
+from tests.test_spool import mesh_of
 
 
 @functools.lru_cache(maxsize=None)

@@ -15,7 +15,8 @@ from cad.guide import guide_blocks
 from cad.mount import make_motor_mounts, mount_numbers, mount_solid
 from swiftfin.params import replace_key
 from swiftfin.schema import Params
-from tests.test_spool import check_golden, mesh_of
+from tests.golden_check import check_golden
+from tests.test_spool import mesh_of
 
 
 @pytest.fixture(scope="session")

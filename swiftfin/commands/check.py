@@ -18,8 +18,8 @@ e.g. as a GitHub Actions step after ``make build`` has set up ``.venv``::
 A WARN (e.g. more redirecting guides than the paper's budget) or a NOT_EVALUATED rule (mass properties not
 given) does not fail the job; read the "why:" lines under the table.
 
-``--mass-properties FILE``: JSON ``{"total_mass_kg": m, "com_m": [x, y, z], "cob_m": [x, y, z],
-"displaced_volume_m3": V}`` in the body frame (from the built parts); without it the floating rules report
+``--mass-properties FILE``: a build's ``mass_properties.json``, or JSON ``{"total_mass_kg": m, "com_m": [x, y, z],
+"cob_m": [x, y, z], "displaced_volume_m3": V}`` in the body frame; without it the floating rules report
 NOT_EVALUATED. ``--parts-bbox FILE``: JSON ``{"label": [dx, dy, dz], ...}`` in mm, print orientation; without it
 the bed rule uses the layout's estimate of the largest parts. ``--loads`` also prints the load model's numbers
 per joint and the sensitivity of its outputs to the uncertain coefficients.
