@@ -1,5 +1,5 @@
 """Shared by the robot-export tests: a small stand-in design of boxes, one or two per link, at the real
-layout's stations (fast), and the default design's real parts (slow).
+layout's stations (fast). The default design's real parts are the session fixture ``default_parts``.
 
 ``mini_parts`` is a STAND-IN, for the exporter's mechanics only (files, frames, digits, the gate). It is not
 the fish: never swim it and never report a number from it. Swimming uses the real parts (the session fixture
@@ -29,12 +29,3 @@ def mini_parts(p) -> list[PartSpec]:
     x_fin = -(layout.hull_end_mm(p) + 25.0)
     out.append(PartSpec("fin_plate", Pos(x_fin, 0, 0) * Box(30, 2.4, 120), p.joints.count, "fin"))
     return out
-
-
-def default_parts(p) -> list[PartSpec]:
-    """The real parts of a design: every family of cad/registry.py (the conftest fixture builds them once)."""
-    from cad.registry import FAMILIES, family_function
-    parts = []
-    for name in FAMILIES:
-        parts += family_function(name)(p)
-    return parts

@@ -238,18 +238,17 @@ def test_cable_mass_is_linear_density_times_length(default_params):
 # ----------------------------------------------------------------------------------------------- slicer
 @pytest.mark.slow
 @pytest.mark.slicer
-def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_params, tmp_path, capsys):
+def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_params, default_parts, tmp_path, capsys):
     """The predicted plastic volume of every printed part of the default design is within 5 % of the
     filament PrusaSlicer extrudes for it with the same [print] settings (exports/slicer.py)."""
     from tests.conftest import require_tool
     require_tool("prusa-slicer", "the printed-volume model is checked against PrusaSlicer")
     from exports.files import export_part
     from exports.slicer import slice_stl
-    from tests.robot_helpers import default_parts
     p = default_params
     pm = mp.PrintModel.from_params(p)
     rows = []
-    for part in default_parts(p):
+    for part in default_parts:
         if not part.printed:
             continue
         ex = export_part(part, p)

@@ -16,13 +16,14 @@ from cad import layout
 from exports import massprops
 from exports.robot import write_robot
 from swiftfin.errors import BuildError
-from tests.robot_helpers import default_parts, mini_parts
+from tests.robot_helpers import mini_parts
 
 
 @pytest.fixture(scope="module", params=["mini", pytest.param("default", marks=pytest.mark.slow)])
 def built(request, tmp_path_factory, default_params):
     p = default_params
-    parts = mini_parts(p) if request.param == "mini" else default_parts(p)
+    # the real parts come from the session fixture (built once for every test module that needs them)
+    parts = mini_parts(p) if request.param == "mini" else request.getfixturevalue("default_parts")
     out = tmp_path_factory.mktemp(f"robot_{request.param}")
     res = write_robot(p, parts, out)
     return p, parts, out, res
