@@ -184,9 +184,15 @@ MOTOR_PITCH_GAP_MM = 3.0     # clearance between neighbouring motor frames
 BAY_TO_JOINT_MM = 45.0       # from the rear motor's frame to joint 1's axis: room for the bay guides' bends
 
 
+#: Least printed web, in line widths, between two holes or a hole and a bore end (two perimeters)
+MIN_WEB_LINES = 2
+
+
 def tendon_level_pitch_mm(p: Params) -> float:
-    """Vertical pitch of the cable levels where cables cross the hinge lines (one PTFE tube + a web)."""
-    return p.guides.ptfe_tube_od_mm + 3 * p.print.line_width_mm
+    """Vertical pitch of the cable levels where cables cross the hinge lines: one pass-through hole (PTFE tube OD
+    plus the sliding clearance each side) and a web of :data:`MIN_WEB_LINES` line widths."""
+    return (p.guides.ptfe_tube_od_mm + 2 * p.print.clearance_sliding_mm
+            + MIN_WEB_LINES * p.print.line_width_mm)
 
 
 def tendon_level_mm(p: Params, joint: int, side: int) -> float:

@@ -14,7 +14,9 @@ plane are measured about the joint axis from +x (forward) toward +y):
   The cable levels (:func:`cad.layout.tendon_level_mm`) are spaced by one level pitch P starting at -P/2,
   the last joint lowest. Joint j's window holds the levels of the joints behind it (they cross its hinge
   line on the axis); its own pair of levels is just above, on the sector. The window spans
-  [lowest level - P/2, own lower level - P/2], the sector the next 2P.
+  [lowest level - hole radius - web, own lower level - P/2], the sector the next 2P. P is one pass-through hole
+  plus a web of two line widths (:func:`cad.layout.tendon_level_pitch_mm`); the window's floor and the blind pin
+  bores' ends keep the same web from the nearest hole, so no skin thinner than two perimeters is left.
 * **Hinge**: the cables cross the hinge line *on* the axis, so the pin cannot run through. There are two
   short pins (steel dowels of ``joints.pin_diameter_mm``): one through the parent's lower lug into the
   lower knuckle, one through the parent's upper lug into the sector, which is the link's upper knuckle.
@@ -137,7 +139,10 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     crossing = tuple(sorted(L.tendon_level_mm(p, k, s) for k in range(j, n) for s in (1, -1)))
     own = (L.tendon_level_mm(p, j - 1, 1), L.tendon_level_mm(p, j - 1, -1))
     z_sec_lo, z_sec_hi = own[1] - P / 2, own[0] + P / 2
-    z_win_lo = (crossing[0] - P / 2) if crossing else z_sec_lo
+    hole_d = p.guides.ptfe_tube_od_mm + 2 * cs
+    web = L.MIN_WEB_LINES * lw
+    # the window's floor lies a web below the lowest pass-through hole (the arm's underside is that floor)
+    z_win_lo = (crossing[0] - hole_d / 2 - web) if crossing else z_sec_lo
     tk = p.joints.link_thickness_mm
     z_k0 = z_win_lo - tk
     lower_lug = (z_k0 - cs - tk, z_k0 - cs)
@@ -160,7 +165,6 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     g_start = aT - th - GROOVE_LEAD_DEG
     front = max(0.0, g_start)
     # anchor: past the tangent by stop + margin, but ahead of the child's bulkhead plane x - g2
-    hole_d = p.guides.ptfe_tube_od_mm + 2 * cs
     anchor_d = max(2.0, 2 * dc + 2 * cs)
     ra = max(rk + anchor_d / 2 + 1.0, 0.45 * m)
     lim = -(g2 - rg - 0.5) / R_s
@@ -281,9 +285,13 @@ def link_solid(p: Params, h: JointHardware) -> bd.Solid:
                   *h.flange_z_mm)]
     body = parts[0].fuse(*parts[1:]).clean()
     # --- cuts
-    cuts = [vcyl(x, 0, rb, z0 - 1, zw),                                                # lower pin bore (blind)
-            vcyl(x, 0, rb, zs, zt + 1)]                                                # upper pin bore (blind)
     hr = h.hole_diameter_mm / 2
+    # blind pin bores end a web short of the nearest pass-through hole (else a 0.4 mm skin separates them)
+    web = L.MIN_WEB_LINES * p.print.line_width_mm
+    z_bore_lo = min(zw, h.crossing_levels_mm[0] - hr - web) if h.crossing_levels_mm else zw
+    z_bore_hi = max(zs, h.crossing_levels_mm[-1] + hr + web) if h.crossing_levels_mm else zs
+    cuts = [vcyl(x, 0, rb, z0 - 1, z_bore_lo),                                         # lower pin bore (blind)
+            vcyl(x, 0, rb, z_bore_hi, zt + 1)]                                         # upper pin bore (blind)
     flare = math.radians(h.stop_deg + FLARE_EXTRA_DEG)
     lf = rk + 1.5
     for z in h.crossing_levels_mm:

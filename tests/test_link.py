@@ -168,3 +168,33 @@ def test_other_designs_build_valid_links():
             root = _edge_radius(ps.solid, h.x_mm, z, ang, 2 * h.knuckle_radius_mm, h.sector_radius_mm + 2)
             assert root + p.cable.diameter_mm / 2 == pytest.approx(p.joints.tendon_moment_arm_mm, abs=1e-6)
     assert np.isfinite(joint_hardware(three, 3).x_mm)
+
+
+@pytest.mark.parametrize("j", [1, 2, 3])
+def test_webs_around_the_pass_through_holes_are_two_perimeters(links, j):
+    """Measured on the solid, along the straight pass-through holes behind the axis: the web between stacked
+    holes, under the lowest hole (the window floor) and between a hole and a blind pin bore's end is at least
+    two line widths (it was 0.375 mm, a skin the slicer drops)."""
+    h = joint_hardware(P, j)
+    solid = links[f"joint_link_{j}"].solid
+    web = 2 * P.print.line_width_mm
+    hr = h.hole_diameter_mm / 2
+    levels = h.crossing_levels_mm
+    x_behind = h.x_mm - 3.0                         # in the arm, on the straight holes
+    inside = lambda x, z: solid.is_inside(bd.Vector(x, 0.0, z))   # noqa: E731
+    # window floor: material from the arm's underside up to the lowest hole
+    assert levels[0] - hr - h.z_window_lo_mm >= web - 1e-9
+    for f in (0.1, 0.5, 0.9):
+        z = h.z_window_lo_mm + f * (levels[0] - hr - h.z_window_lo_mm)
+        assert inside(x_behind, z), (j, z)
+    assert not inside(x_behind, levels[0])          # the hole itself
+    # stacked holes
+    for a, b in zip(levels, levels[1:]):
+        assert (b - hr) - (a + hr) >= web - 1e-9
+        assert inside(x_behind, 0.5 * (a + b)), (j, a, b)
+    # blind pin bores: the web between each bore's end and the nearest hole, on the axis
+    rb = h.bore_radius_mm
+    assert not inside(h.x_mm, levels[0] - hr - web - 0.2)                # lower bore
+    assert inside(h.x_mm + 0.5 * rb, levels[0] - hr - 0.5 * web)          # web above it
+    assert inside(h.x_mm + 0.5 * rb, levels[-1] + hr + 0.5 * web)         # web under the upper bore
+    assert not inside(h.x_mm, levels[-1] + hr + web + 0.2)               # upper bore
