@@ -472,8 +472,8 @@ class DriveSelection:
 # The engine (calibration.engine) fits  y = base_columns @ b0 + sum_e columns_e @ b_e  on the rows of a
 # Context. For the drive the rows are the *decimated* samples of the IDIM-LS recipe; each effect's regressor
 # is formed at the full rate and then decimated (as Script_IDIM_LS.m does with sign(dq)), from the
-# full-rate signals kept in ``ctx.meta['full']``. If the context was subsampled by the engine (very long
-# logs), the columns fall back to the decimated signals themselves.
+# full-rate signals kept in ``ctx.meta['full']``. On windows of a very long log (``Context.select``), whose rows
+# no longer match the decimated record, the columns fall back to the decimated signals themselves.
 
 
 

@@ -151,24 +151,6 @@ class Context:
     def n(self) -> int:
         return int(self.y.shape[0])
 
-    def subsample(self, stride: int) -> "Context":
-        """Every ``stride``-th row of every array (for the fast selection pass on long logs).
-
-        Signals were computed at the full rate, so derivatives and cumulative quantities stay accurate; effects
-        that integrate in time must use ``ctx.t`` (not a stored sample period)."""
-        if stride <= 1:
-            return self
-        sl = slice(None, None, stride)
-        meta = {k: v for k, v in self.meta.items() if not k.startswith("_")}      # "_": caches of this record
-        if "dt_s" in meta:
-            meta["dt_s"] = meta["dt_s"] * stride
-        if "train_rows" in meta:
-            meta["train_rows"] = meta["train_rows"][sl]
-        return Context(self.t[sl], self.y[sl], self.base[sl], self.base_columns[sl],
-                       {k: v[sl] for k, v in self.signals.items()}, self.source,
-                       None if self.series is None else self.series[sl], meta)
-
-
     def select(self, rows: np.ndarray, series: np.ndarray | None = None) -> "Context":
         """The given rows (sorted indices) as a new context, e.g. a few contiguous windows of a long log for the
         fast selection pass. ``meta["parent"]`` keeps the full context, so an effect whose state depends on the
