@@ -19,9 +19,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from swiftfin.cache import FamilyCache  # noqa: E402
-from swiftfin.config import load_design  # noqa: E402
-from swiftfin.errors import BuildError  # noqa: E402
-from swiftfin.params import get_key, replace_key, to_dict  # noqa: E402
+from swiftfin.layout.design import load_design  # noqa: E402
+from swiftfin.core.errors import BuildError  # noqa: E402
+from swiftfin.core.params import get_key, replace_key, to_dict  # noqa: E402
 from swiftfin.pipeline import build  # noqa: E402
 
 TARGET_RATIO = 0.20

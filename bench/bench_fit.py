@@ -25,10 +25,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from calibration.engine import Calibrator, _single_thread_blas  # noqa: E402
-from calibration.joint import EQUIVALENT, FAMILY, joint_context, joint_design  # noqa: E402
-from calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, simulate_joint  # noqa: E402
-from swiftfin.config import load_design  # noqa: E402
+from swiftfin.calibration.engine import Calibrator, _single_thread_blas  # noqa: E402
+from swiftfin.calibration.joint import EQUIVALENT, FAMILY, joint_context, joint_design  # noqa: E402
+from swiftfin.calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, simulate_joint  # noqa: E402
+from swiftfin.layout.design import load_design  # noqa: E402
 
 SINDY_GRID = {
     "cable_compliance": ("stiffness_factor", (0.03, 0.1, 0.3)),

@@ -31,7 +31,7 @@ contacts; both are exact on the meshes, far faster than OCC booleans):
    exact up to the tolerance because the envelope is convex (NACA 00xx half-thickness is concave in x and the
    sections are ellipses scaled by it) so a mesh whose vertices are inside lies inside.
 
-A failed check raises :class:`swiftfin.errors.BuildError` naming both parts, the joint angles and the
+A failed check raises :class:`swiftfin.core.errors.BuildError` naming both parts, the joint angles and the
 measured gap or overlap.
 """
 from __future__ import annotations
@@ -46,10 +46,10 @@ from typing import Iterable
 
 import numpy as np
 
-from cad.layout import (half_height_mm, hull_end_mm, joint_stations_mm, joint_stop_angles_rad,
+from swiftfin.layout.geometry import (half_height_mm, hull_end_mm, joint_stations_mm, joint_stop_angles_rad,
                         naca_half_width_mm)
-from swiftfin.errors import BuildError
-from swiftfin.schema import Params
+from swiftfin.core.errors import BuildError
+from swiftfin.core.schema import Params
 
 RESOLUTION_MM = 0.02        # clearance verified to within this everywhere in the range of motion
 MAX_BOXES_PER_PAIR = 20000
@@ -104,7 +104,7 @@ CONTACTS: tuple[Contact, ...] = (
     Contact(r"motor_mount_(?P<j>\d+)", r"motor_(?P<j>\d+)", "a motor's face is screwed to its mount plate, the "
             "pilot boss in the plate's hole (cad/mount.py)"),
     Contact(r"motor_mount_\d+", r"hull_.+", "mount tabs are screwed to the hull wall at "
-            "cad.layout.mount_fixings_mm", link_delta=0),
+            "swiftfin.layout.geometry.mount_fixings_mm", link_delta=0),
     Contact(r"guide_exit_(?P<j>\d+)", r"motor_mount_(?P<j>\d+)", "an exit guide is screwed onto posts of its "
             "motor's mount (cad/guide.py)"),
     Contact(r"guide_bay", r"motor_mount_1", "the bay guide is screwed onto posts at the aft edge of motor_mount_1 "
@@ -457,7 +457,7 @@ def check_assembly(p: Params, parts: list[Placed], contacts: Iterable[Contact] =
 # --------------------------------------------------------------------------------------------- the assembly
 def make_assembly(specs, label: str = "swiftfin_assembly"):
     """One build123d Compound of every part at rest in the body frame; children carry the part labels."""
-    import build123d as bd
+    from swiftfin.cad.kernel import bd
 
     children = []
     for s in specs:

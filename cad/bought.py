@@ -2,15 +2,15 @@
 ``params.components`` (battery, electronics, ...). Body frame at rest, mm; ``printed=False``.
 
 Cable and PTFE tube are not solids here (they have no fixed shape at rest worth a STEP file); their mass
-belongs to whoever sums the cable lengths (``cad.layout.cable_routes``).
+belongs to whoever sums the cable lengths (``swiftfin.layout.geometry.cable_routes``).
 """
 from __future__ import annotations
 
-from build123d import Plane, Polygon, Solid, extrude
+from swiftfin.cad.kernel import Plane, Polygon, Solid, extrude
 
-from cad.layout import motor_placements
-from cad.part import PartSpec
-from swiftfin.schema import Params
+from swiftfin.layout.geometry import motor_placements
+from swiftfin.cad.part import PartSpec
+from swiftfin.core.schema import Params
 
 MOTOR_CORNER_CHAMFER_FRACTION = 0.1
 """Leg of the 45 deg chamfer on the frame's four long edges / frame size [-]. NEMA 17 drawings (17HS4401:

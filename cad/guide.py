@@ -23,12 +23,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from build123d import Edge, Face, Plane, Solid, Transition, Wire
+from swiftfin.cad.kernel import Edge, Face, Plane, Solid, Transition, Wire
 
-from cad.layout import cable_routes, half_height_mm, motor_placements, naca_half_width_mm, spool_dims
-from cad.part import PartSpec
-from swiftfin.errors import UserError
-from swiftfin.schema import Params
+from swiftfin.layout.geometry import cable_routes, half_height_mm, motor_placements, naca_half_width_mm, spool_dims
+from swiftfin.cad.part import PartSpec
+from swiftfin.core.errors import UserError
+from swiftfin.core.schema import Params
 
 POST_RADIUS_FACTOR = 1.5
 """Post (and screw boss) radius / guide screw diameter [-]: 3 d across, ~2 line widths of wall around a

@@ -2,12 +2,12 @@
 
 Numbers first (:func:`mount_numbers`), solid second (:func:`mount_solid`).
 
-The plate (``cad.layout.plate_thickness_mm`` thick) lies on the motor's face, z_face .. z_face + plate, over the
+The plate (``swiftfin.layout.geometry.plate_thickness_mm`` thick) lies on the motor's face, z_face .. z_face + plate, over the
 motor's frame along x and out to the hull's inner wall (less the assembly clearance) along y. It has the
 NEMA hole pattern (clearance holes for the motor screws, heads on top), the hole for the motor's pilot boss
 (a sliding fit: it centres the motor, so the spool axis lies exactly on ``motor_placements()``), and the
 spool above it is free (its hub starts ``spool_dims().hub_bottom_mm`` above the face). Two tabs reach the
-wall at ``cad.layout.mount_fixings_mm``: a boss along the fixing normal with a pilot hole for the screw
+wall at ``swiftfin.layout.geometry.mount_fixings_mm``: a boss along the fixing normal with a pilot hole for the screw
 through the hull wall (``hull.screw_diameter_mm``). Posts with pilot holes carry the guide blocks at the
 points :func:`cad.guide.guide_blocks` gives (motor_mount_1 reaches aft under the bay guide for that).
 """
@@ -17,14 +17,14 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from build123d import Plane, Polygon, Solid, extrude
+from swiftfin.cad.kernel import Plane, Polygon, Solid, extrude
 
-from cad.bought import pilot_hole_diameter_mm
-from cad.guide import POST_RADIUS_FACTOR, assembly_gap_mm, guide_blocks
-from cad.layout import interior_half_width_at_height_mm, motor_placements, mount_fixings_mm, spool_dims
-from cad.part import PartSpec
-from swiftfin.errors import UserError
-from swiftfin.schema import Params
+from swiftfin.cad.bought import pilot_hole_diameter_mm
+from swiftfin.cad.guide import POST_RADIUS_FACTOR, assembly_gap_mm, guide_blocks
+from swiftfin.layout.geometry import interior_half_width_at_height_mm, motor_placements, mount_fixings_mm, spool_dims
+from swiftfin.cad.part import PartSpec
+from swiftfin.core.errors import UserError
+from swiftfin.core.schema import Params
 
 TAB_DEPTH_FACTOR = 4.0
 """Depth of the wall screw's pilot hole / screw diameter [-] (thread engagement ~2 d plus the tip).

@@ -4,13 +4,13 @@ from __future__ import annotations
 import importlib
 
 FAMILIES: dict[str, str] = {
-    "hull": "cad.hull:make_hull_segments",
-    "link": "cad.link:make_joint_links",
-    "fin": "cad.fin:make_caudal_fin",
-    "spool": "cad.spool:make_spools",
-    "mount": "cad.mount:make_motor_mounts",
-    "guide": "cad.guide:make_guides",
-    "bought": "cad.bought:make_bought_parts",
+    "hull": "swiftfin.cad.hull:make_hull_segments",
+    "link": "swiftfin.cad.link:make_joint_links",
+    "fin": "swiftfin.cad.fin:make_caudal_fin",
+    "spool": "swiftfin.cad.spool:make_spools",
+    "mount": "swiftfin.cad.mount:make_motor_mounts",
+    "guide": "swiftfin.cad.guide:make_guides",
+    "bought": "swiftfin.cad.bought:make_bought_parts",
 }
 
 

@@ -1,6 +1,6 @@
 """Capstan spools: one per motor, on its shaft, in the body frame at rest (mm).
 
-Numbers first (:func:`spool_numbers`, built on :func:`cad.layout.spool_dims`), solid second (:func:`spool_solid`).
+Numbers first (:func:`spool_numbers`, built on :func:`swiftfin.layout.geometry.spool_dims`), solid second (:func:`spool_solid`).
 
 The spool, from the motor face up: hub (bore with the shaft's D-flat, radial set screw onto the flat), lower
 flange, grooved drum, upper flange. Interpretation of the parameters (see the module's notes in the report):
@@ -14,7 +14,7 @@ flange, grooved drum, upper flange. Interpretation of the parameters (see the mo
   leaving the drum on both sides toward the tail, wraps between its two leave points (friction capstan,
   paper §2.3.1): the left (+y) cable leaves from the upper end of the wrapped region, the right one from
   the lower end. The groove runs ``groove_turns`` turns centred on the cable plane: ``wraps`` between the
-  leave points plus the joint's travel and margin at both ends, as :func:`cad.layout.spool_dims` sizes it.
+  leave points plus the joint's travel and margin at both ends, as :func:`swiftfin.layout.geometry.spool_dims` sizes it.
 * **Anchors.** Each cable end (left and right piece of the pull-pull pair) is wound from its leave point
   toward the middle of the wrapped region, where it dives into a radial hole at the groove root and leaves
   the spool through an axial hole up through the upper flange, to be knotted (or crimped) on its top face,
@@ -26,13 +26,13 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from build123d import Axis, Edge, Face, Location, Plane, Solid, Wire
+from swiftfin.cad.kernel import Axis, Edge, Face, Location, Plane, Solid, Wire
 
-from cad.bought import pilot_hole_diameter_mm
-from cad.layout import cable_routes, motor_placements, spool_dims, spool_travel_turns
-from cad.part import PartSpec
-from swiftfin.errors import UserError
-from swiftfin.schema import Params
+from swiftfin.cad.bought import pilot_hole_diameter_mm
+from swiftfin.layout.geometry import cable_routes, motor_placements, spool_dims, spool_travel_turns
+from swiftfin.cad.part import PartSpec
+from swiftfin.core.errors import UserError
+from swiftfin.core.schema import Params
 
 HUB_WALL_SET_SCREWS = 1.5
 """Hub wall (bore to outside) / set screw diameter [-]: 4.5 mm of thread for an M3 set screw.

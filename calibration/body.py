@@ -51,8 +51,8 @@ from pathlib import Path
 
 import numpy as np
 
-from calibration.engine import Calibrator, Context, Effect, Family, Param, concat_contexts
-from calibration.fishsim import MarkerData, dominant_frequency_hz, load_marker_files, load_markers
+from swiftfin.calibration.engine import Calibrator, Context, Effect, Family, Param, concat_contexts
+from swiftfin.calibration.fishsim import MarkerData, dominant_frequency_hz, load_marker_files, load_markers
 
 BODY_MARKERS = tuple(range(2, 9))
 TAIL_MARKER = 8

@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from calibration.drive import DriveLog, DriveModel, inverse_dynamics_data
-from swiftfin.errors import UserError
+from swiftfin.calibration.drive_data import DriveLog
+from swiftfin.core.errors import UserError
 
 ESTIMATION_FILE = "DATA_EMPS.mat"
 VALIDATION_FILE = "DATA_EMPS_PULSES.mat"
@@ -70,26 +70,3 @@ def load_emps_pair(project_root=None) -> tuple[EmpsRun, EmpsRun]:
     """(estimation run, validation run with pulses)."""
     base = emps_dir(project_root)
     return load_emps(base / ESTIMATION_FILE), load_emps(base / VALIDATION_FILE)
-
-
-def idim_ls(project_root=None, asymmetric: bool = False) -> dict:
-    """The reference IDIM-LS: M*qdd + Fv*qd + Fc*sign(qd) + offset, fit on the estimation run, evaluated on
-    both runs. ``asymmetric`` adds the direction-dependent viscous term (Fv for v>0, Fv+dFv_neg for v<0),
-    which is the asymmetric model that reproduces the published 3.1 % / 5.4 %.
-    Returns fitted values, standard deviations and relative errors [%]."""
-    est, val = load_emps_pair(project_root)
-    de, dv = inverse_dynamics_data(est.log), inverse_dynamics_data(val.log)
-    effects = ("viscous_friction", "coulomb_friction", "offset")
-    if asymmetric:
-        effects = effects + ("asymmetric_friction",)
-    m = DriveModel(effects).fit(de)
-    c, s = m.coef_, m.stderr_
-    out = {"M": c["inertia.M"], "Fv": c["viscous_friction.Fv"], "Fc": c["coulomb_friction.Fc"],
-           "offset": c["offset.F0"],
-           "stderr": {"M": s["inertia.M"], "Fv": s["viscous_friction.Fv"], "Fc": s["coulomb_friction.Fc"],
-                      "offset": s["offset.F0"]},
-           "rel_error_estimation_pct": m.rel_error_train_, "rel_error_validation_pct": m.relative_error_pct(dv),
-           "cutoff_hz": de.cutoff_hz, "decimation": de.decimation, "model": m}
-    if asymmetric:
-        out["Fv_neg"] = c["viscous_friction.Fv"] + c["asymmetric_friction.dFv_neg"]
-    return out

@@ -12,7 +12,7 @@ How to add a family
 -------------------
 1. Create ``calibration/<name>.py``. Declare the CSV columns it needs with :class:`calibration.io.Column`
    (name, unit, kind) and read files with :func:`calibration.io.read_log`, which checks names, units,
-   time stamps and NaN gaps and raises :class:`swiftfin.errors.UserError` naming file, column and row.
+   time stamps and NaN gaps and raises :class:`swiftfin.core.errors.UserError` naming file, column and row.
 2. Write a loader ``load(path, design, notes=None) -> Context`` (``notes``: a list the loader appends warnings
    to, e.g. :attr:`calibration.io.LogData.notes`; the CLI prints them): the measured ``target``
    (``Context.y``), the fixed part of
@@ -324,12 +324,7 @@ class Family:
         raise KeyError(name)
 
 
-#: family name -> module defining ``FAMILY`` (imported on first use so a missing family does not break others)
-FAMILY_MODULES: dict[str, str] = {
-    "joint": "calibration.joint",
-    "drive": "calibration.drive",
-    "body": "calibration.body",
-}
+from swiftfin.calibration import FAMILY_MODULES  # noqa: E402  the registry of families (names only)
 
 
 def get_family(name: str) -> Family:

@@ -46,7 +46,7 @@ import numpy as np
 from scipy import signal
 from scipy.ndimage import median_filter
 
-from swiftfin.errors import UserError
+from swiftfin.core.errors import UserError
 
 HEAD_MARKER_SPACING_M = 0.142  # fishsim README: true spacing of markers 0 and 1
 FRAME_RATE_HZ = 60.0           # fishsim README

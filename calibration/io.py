@@ -13,7 +13,7 @@ plausible range); :func:`read_log` reads the CSV and checks, all at once where i
   degrees are refused as "looks like degrees".
 
 Rows are numbered as in a spreadsheet: the header is row 1, the first data row is row 2.
-Every problem raises :class:`swiftfin.errors.UserError` (exit 2) naming the file, the column and the row.
+Every problem raises :class:`swiftfin.core.errors.UserError` (exit 2) naming the file, the column and the row.
 Extra columns are allowed and ignored.
 """
 from __future__ import annotations
@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from swiftfin.errors import UserError
+from swiftfin.core.errors import UserError
 
 
 @dataclass(frozen=True)

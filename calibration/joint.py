@@ -14,7 +14,7 @@ No coefficient is fitted: the radii come from the design file.
 Physics of the departures (what the effects model). The stepper is position-commanded and the cable is stiff,
 so joint-side loads (friction, drag, inertia) reach the joint angle only through the cable's compliance:
 theta = theta_rigid - tau_load / K, with K = (k_a + k_b) d_mount^2 the pull-pull stiffness at the joint and
-k = E A / L of each side (E, A from ``cable.*``, L the route length of :func:`cad.layout.cable_routes`).
+k = E A / L of each side (E, A from ``cable.*``, L the route length of :func:`swiftfin.layout.geometry.cable_routes`).
 This fixes what can and cannot be told apart from the joint angle alone:
 
 * ``cable_compliance`` and ``added_mass`` both change J / K, the only inertial quantity visible in a
@@ -49,14 +49,14 @@ from pathlib import Path
 
 import numpy as np
 
-from cad.layout import cable_routes, spool_dims
-from calibration import effects as op
-from calibration.engine import Context, Effect, Family, Param
-from calibration.io import Column, read_log
-from physics.capstan import cable_stiffness_n_m
-from physics.kinematics import joint_resolution_rad
-from swiftfin.errors import UserError
-from swiftfin.schema import Params
+from swiftfin.layout.geometry import cable_routes, spool_dims
+from swiftfin.calibration import effects as op
+from swiftfin.calibration.engine import Context, Effect, Family, Param
+from swiftfin.calibration.io import Column, read_log
+from swiftfin.physics.capstan import cable_stiffness_n_m
+from swiftfin.physics.kinematics import joint_resolution_rad
+from swiftfin.core.errors import UserError
+from swiftfin.core.schema import Params
 
 #: Inertia of the bare bench link about the hinge [kg m^2]: a 10 g printed arm with the sensor magnet,
 #: centre of mass 24 mm from the hinge (0.010 x 0.024^2 = 5.8e-6). Estimate; weigh yours.

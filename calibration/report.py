@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from calibration.engine import Calibrator, Context, _jsonable
+from swiftfin.calibration.engine import Calibrator, Context, _jsonable
 
 
 def _plt():
@@ -134,7 +134,7 @@ def plot_spectrum(cal: Calibrator, path: Path) -> None:
             continue
         f, pxx = signal.welch(r - r.mean(), fs=1.0 / dt, nperseg=min(4096, r.size // 2 or 8))
         ax[0].semilogy(f[1:], pxx[1:], color=col, lw=1, label=f"residual, {lab}")
-        from calibration.engine import acf
+        from swiftfin.calibration.engine import acf
         a = acf(r, min(200, r.size // 3))
         ax[1].plot(np.arange(a.size) * dt, a, color=col, lw=1, label=lab)
     ax[0].set_xlabel("frequency [Hz]")

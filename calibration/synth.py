@@ -30,8 +30,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal
 
-from calibration import effects as op
-from calibration.joint import SLIP_FULL_STEPS, JointDesign, slip_signal
+from swiftfin.calibration import effects as op
+from swiftfin.calibration.joint import SLIP_FULL_STEPS, JointDesign, slip_signal
 
 #: name -> (default value, unit, meaning of VALUE, why that size). Sizes are realistic for the default design.
 EFFECT_DEFAULTS: dict[str, tuple[float, str, str, str]] = {

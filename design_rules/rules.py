@@ -2,7 +2,7 @@
 and returns one :class:`~design_rules.findings.Finding`.
 
 Three groups: the paper's guidelines (§7.2), what follows from the physics at the design point (the load model
-of ``physics.loads``), and what a printed robot needs. Limits come from the ``[rules]`` section of the parameter
+of ``swiftfin.layout.loads``), and what a printed robot needs. Limits come from the ``[rules]`` section of the parameter
 file; the default limits are the paper's where it gives one.
 """
 from __future__ import annotations
@@ -14,15 +14,15 @@ from typing import Callable
 
 import numpy as np
 
-from cad.layout import cable_routes, spool_dims
-from design_rules.findings import Finding, Severity, at_least, at_most, not_evaluated, within
-from physics.capstan import cable_area_m2
-from physics.kinematics import joint_resolution_rad
-from physics.loads import DriveLoads, JointLoads, LinkMass, drive_loads, fin_geometry, joint_loads
-from physics.strouhal import strouhal
-from swiftfin.errors import UserError
-from swiftfin.params import Problem
-from swiftfin.schema import Params
+from swiftfin.layout.geometry import cable_routes, spool_dims
+from swiftfin.design_rules.findings import Finding, Severity, at_least, at_most, not_evaluated, within
+from swiftfin.physics.capstan import cable_area_m2
+from swiftfin.physics.kinematics import joint_resolution_rad
+from swiftfin.layout.loads import DriveLoads, JointLoads, LinkMass, drive_loads, fin_geometry, joint_loads
+from swiftfin.physics.strouhal import strouhal
+from swiftfin.core.errors import UserError
+from swiftfin.core.params import Problem
+from swiftfin.core.schema import Params
 
 PAPER = "SwiftFin paper"
 MIN_GUIDE_BEND_RAD = math.radians(1.0)   # a "bend" under 1 deg needs no redirecting guide
@@ -41,8 +41,8 @@ class MassProperties:
         """Validate ``{total_mass_kg, com_m: [x, y, z], cob_m: [x, y, z], displaced_volume_m3}``, or a build's own
         ``mass_properties.json`` (its ``total`` table: ``mass_kg``, ``com_m``, ``cob_m``, ``displaced_volume_m3``).
 
-        Raises :class:`swiftfin.params.ParamError` listing every problem (exit 2 in the CLI)."""
-        from swiftfin.params import ParamError
+        Raises :class:`swiftfin.core.params.ParamError` listing every problem (exit 2 in the CLI)."""
+        from swiftfin.core.params import ParamError
         kind = "the mass-properties file"
         probs = []
         want = {"total_mass_kg": "a positive number [kg]", "displaced_volume_m3": "a positive number [m^3]",
@@ -161,7 +161,7 @@ def guides_per_route(ctx: RuleContext) -> Finding:
     return at_most("paper.guides_per_route", n, ctx.p.rules.guides_per_route_max,
                    f"{PAPER} §7.2 (minimise redirecting guides); eq. 29 budgets 2",
                    detail=f"joint {j + 1} {'left' if side > 0 else 'right'} route: {n} bends over 1 deg "
-                          f"(cad.layout.cable_routes)", above=Severity.WARN)
+                          f"(swiftfin.layout.geometry.cable_routes)", above=Severity.WARN)
 
 
 # ----------------------------------------------------------------------------------------------- physics
@@ -281,7 +281,7 @@ def fit_factor(size_mm, bed_mm) -> float:
 def layout_part_boxes_mm(p: Params) -> dict[str, tuple[float, float, float]]:
     """Print-orientation bounding boxes of the parts the layout already sizes: hull segments (halves, flat face
     down, when split), the caudal fin (flat) and the spool (axis up). An estimate until the parts are built."""
-    from cad.hull import hull_pieces, printed_size_mm  # the hull's own split plan (numbers only)
+    from swiftfin.layout.hull_plan import hull_pieces, printed_size_mm  # the hull's split plan
     out = {}
     for pc in hull_pieces(p):
         size = printed_size_mm(p, pc)
@@ -345,7 +345,7 @@ def floats_level(ctx: RuleContext) -> Finding:
     if mp is None:
         return not_evaluated("float.level", src, "needs the built parts' mass properties (com, cob): "
                                                  "pass --mass-properties FILE", unit="deg")
-    from exports.massprops import static_pitch_deg
+    from swiftfin.physics.hydrostatics import static_pitch_deg
     pitch = static_pitch_deg(mp.com_m, mp.cob_m)
     lead_mm = (mp.com_m[0] - mp.cob_m[0]) * 1e3
     return at_most("float.level", abs(pitch), ctx.p.environment.max_static_pitch_deg, src, unit="deg",
@@ -396,3 +396,27 @@ def run_rules(ctx: RuleContext, rules: list[Rule] | None = None) -> list[Finding
             raise RuntimeError(f"rule {rule.rule_id} returned a finding for {f.rule_id}")
         out.append(f)
     return out
+
+
+# --------------------------------------------------------------------------------------------- entry points
+def mass_properties_from_json(mp: dict | None) -> "MassProperties | None":
+    """``design_rules.MassProperties`` from a mass_properties.json (exports.massprops.report_to_dict or the
+    flat ``swiftfin check --mass-properties`` form); None when absent or incomplete."""
+    if not mp:
+        return None
+    try:
+        if "total" in mp:
+            t = mp["total"]
+            return MassProperties(float(t["mass_kg"]), tuple(t["com_m"]), tuple(t["cob_m"]),
+                                  float(t["displaced_volume_m3"]))
+        return MassProperties.from_dict({k: mp[k] for k in ("total_mass_kg", "com_m", "cob_m", "displaced_volume_m3")})
+    except (KeyError, TypeError, ValueError):
+        return None
+
+
+def design_findings(p: Params, mass_properties_json: dict | None = None,
+                    part_bboxes_mm: dict | None = None) -> list:
+    """Every rule's finding for a design: what ``swiftfin check`` prints and the report shows. The float rules
+    need a build's ``mass_properties.json`` content; the bed-fit rule uses the built parts' print boxes if given."""
+    return run_rules(RuleContext(p, mass_properties=mass_properties_from_json(mass_properties_json),
+                                 part_bboxes_mm=part_bboxes_mm or None))

@@ -18,7 +18,6 @@ millimetres, written with :mod:`zipfile` with fixed entry dates so that the same
 from __future__ import annotations
 
 import io
-import math
 import re
 import struct
 import zipfile
@@ -27,105 +26,10 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
+from swiftfin.exports.brep import Mesh, is_closed, solid_volume_props, tessellate, weld  # noqa: F401  re-exported
+
 STEP_TIMESTAMP = "2000-01-01T00:00:00"   # fixed STEP header date: same part, same STEP bytes
 ZIP_DATE = (1980, 1, 1, 0, 0, 0)         # earliest date a zip entry can carry
-
-
-@dataclass(frozen=True)
-class Mesh:
-    """A triangle mesh in millimetres: ``vertices`` (n, 3) float64, ``faces`` (m, 3) int64, outward winding."""
-    vertices: np.ndarray
-    faces: np.ndarray
-
-    def transformed(self, matrix: np.ndarray) -> "Mesh":
-        m = np.asarray(matrix, dtype=float)
-        v = self.vertices @ m[:3, :3].T + m[:3, 3]
-        return Mesh(v, self.faces)
-
-    @property
-    def volume_mm3(self) -> float:
-        """Signed volume (divergence theorem); positive for outward winding."""
-        a, b, c = (self.vertices[self.faces[:, k]] for k in range(3))
-        return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
-
-    @property
-    def area_mm2(self) -> float:
-        a, b, c = (self.vertices[self.faces[:, k]] for k in range(3))
-        return float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2.0)
-
-    @property
-    def bbox_mm(self) -> tuple[np.ndarray, np.ndarray]:
-        return self.vertices.min(axis=0), self.vertices.max(axis=0)
-
-
-# --------------------------------------------------------------------------------------------- tessellation
-def tessellate(shape, tolerance_mm: float, angular_tolerance_deg: float) -> Mesh:
-    """Welded triangle mesh of a build123d shape (or a TopoDS_Shape) in its own coordinates [mm]."""
-    from OCP.BRep import BRep_Tool
-    from OCP.BRepMesh import BRepMesh_IncrementalMesh
-    from OCP.BRepTools import BRepTools
-    from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopLoc import TopLoc_Location
-    from OCP.TopoDS import TopoDS
-
-    topo = getattr(shape, "wrapped", shape)
-    BRepTools.Clean_s(topo)  # forget any triangulation made with other settings: same input, same mesh
-    BRepMesh_IncrementalMesh(topo, tolerance_mm, False, math.radians(angular_tolerance_deg), False)
-    verts: list[np.ndarray] = []
-    tris: list[np.ndarray] = []
-    offset = 0
-    exp = TopExp_Explorer(topo, TopAbs_FACE)
-    while exp.More():
-        face = TopoDS.Face(exp.Current()) if hasattr(TopoDS, "Face") else TopoDS.Face_s(exp.Current())
-        loc = TopLoc_Location()
-        tri = BRep_Tool.Triangulation_s(face, loc)
-        exp.Next()
-        if tri is None:
-            continue
-        trsf = loc.Transformation()
-        n = tri.NbNodes()
-        pts = np.empty((n, 3))
-        for i in range(n):
-            q = tri.Node(i + 1).Transformed(trsf)
-            pts[i] = (q.X(), q.Y(), q.Z())
-        m = tri.NbTriangles()
-        idx = np.empty((m, 3), dtype=np.int64)
-        for i in range(m):
-            idx[i] = tri.Triangle(i + 1).Get()
-        idx -= 1
-        if face.Orientation() == TopAbs_REVERSED:
-            idx = idx[:, ::-1]
-        verts.append(pts)
-        tris.append(idx + offset)
-        offset += n
-    if not tris:
-        raise ValueError("the shape has no faces to tessellate")
-    return weld(np.concatenate(verts), np.concatenate(tris))
-
-
-def weld(vertices: np.ndarray, faces: np.ndarray, decimals: int = 7) -> Mesh:
-    """Merge coincident vertices (equal to ``decimals`` places of a mm) and drop degenerate triangles."""
-    key = np.round(vertices, decimals) + 0.0  # + 0.0 turns -0.0 into 0.0
-    uniq, inverse = np.unique(key, axis=0, return_inverse=True)
-    f = inverse.reshape(-1)[faces]
-    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2])
-    f = f[keep]
-    used = np.unique(f)
-    remap = np.full(len(uniq), -1, dtype=np.int64)
-    remap[used] = np.arange(len(used))
-    return Mesh(uniq[used], remap[f])
-
-
-def is_closed(mesh: Mesh) -> bool:
-    """Every edge shared by exactly two triangles, in opposite directions (closed, consistently wound)."""
-    f = mesh.faces
-    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
-    directed, counts = np.unique(e, axis=0, return_counts=True)
-    if np.any(counts != 1):
-        return False
-    rev = np.unique(e[:, ::-1], axis=0)
-    return len(rev) == len(directed) and bool(np.all(rev == directed))
 
 
 # --------------------------------------------------------------------------------------------- orientation
@@ -275,5 +179,4 @@ def export_part(spec, p) -> PartExport:
         files[".stl"] = stl_bytes(pm, spec.label)
         files[".3mf"] = threemf_bytes(pm, spec.label)
         files[".step"] = step_bytes(move_shape(spec.solid, m), spec.label)
-    from exports.massprops import solid_volume_props   # the adaptive integration, not Shape.volume's fixed rule
     return PartExport(mesh, solid_volume_props(spec.solid).volume_mm3, float(spec.solid.area), size, files)

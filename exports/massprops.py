@@ -4,10 +4,10 @@ Method (house style rules 3, 10)
 --------------------------------
 * **Solid geometry** comes from OpenCascade (``BRepGProp.VolumeProperties``): volume, centroid and the second
   moment of volume about the centroid (OCC's ``MatrixOfInertia`` is the inertia *tensor* about the centre of
-  mass, products of inertia with their minus sign). Converted mm -> m in :mod:`exports.units`.
+  mass, products of inertia with their minus sign). Converted mm -> m in :mod:`swiftfin.core.units`.
 * **Bought parts** (``PartSpec.printed`` False) carry a catalogue ``mass_kg``; their box/cylinder geometry is
   taken as a uniform-density body scaled to that mass. The **cables** are line masses
-  (``cable.linear_density_g_m``) along ``cad.layout.cable_routes`` plus their wraps on the drums
+  (``cable.linear_density_g_m``) along ``swiftfin.layout.geometry.cable_routes`` plus their wraps on the drums
   (:func:`cable_masses`, one ``cables_link_<j>`` entry per link). The **PTFE tube** lines every guide channel
   where it passes through its printed block (:func:`ptfe_tube_masses`): a thin-walled rod of
   ``guides.ptfe_tube_od_mm`` / ``ptfe_tube_id_mm`` and ``guides.ptfe_density_kg_m3`` along the channel centre
@@ -64,136 +64,18 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from cad import layout
-from exports import units
-from swiftfin.errors import BuildError
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as layout
+from swiftfin.core import units
+from swiftfin.physics.hydrostatics import static_pitch_deg
+from swiftfin.exports.brep import (  # noqa: F401  re-exported: the mass model's geometry
+    VOLUME_EPS, VolumeProps, _props, _wrapped, mesh_volume_props, solid_area_mm2, solid_volume_props)
+from swiftfin.exports.brep import tessellate_trimesh as tessellate
+from swiftfin.exports.inertia import Inertial, combine, make_inertial, parallel_axis  # noqa: F401  re-exported
+from swiftfin.core.errors import BuildError
+from swiftfin.core.schema import Params
 
 PAPER_MASS_KG = 1.2          # SwiftFin paper, Table 2
 GATE_MESH_REL_TOL = 0.01     # OCC vs mesh agreement [-] (issue 3, item 5)
-
-
-# ----------------------------------------------------------------------------------------------- inertial algebra
-@dataclass(frozen=True)
-class Inertial:
-    """Mass [kg], centre of mass [m] and inertia tensor about the COM [kg m^2], in one frame's axes."""
-    mass_kg: float
-    com_m: tuple[float, float, float]
-    inertia_kg_m2: tuple[tuple[float, float, float], ...]
-
-    @property
-    def com(self) -> np.ndarray:
-        return np.asarray(self.com_m, dtype=float)
-
-    @property
-    def inertia(self) -> np.ndarray:
-        return np.asarray(self.inertia_kg_m2, dtype=float)
-
-    def shifted(self, origin_m) -> "Inertial":
-        """The same body with its COM expressed relative to ``origin_m`` (same axes)."""
-        return make_inertial(self.mass_kg, self.com - np.asarray(origin_m, dtype=float), self.inertia)
-
-    def rotated(self, R) -> "Inertial":
-        """The body rotated by R about the frame origin: COM -> R c, I -> R I R^T."""
-        R = np.asarray(R, dtype=float)
-        return make_inertial(self.mass_kg, R @ self.com, R @ self.inertia @ R.T)
-
-    def scaled_mass(self, factor: float) -> "Inertial":
-        return make_inertial(self.mass_kg * factor, self.com, self.inertia * factor)
-
-
-def make_inertial(mass_kg, com_m, inertia_kg_m2) -> Inertial:
-    I = np.asarray(inertia_kg_m2, dtype=float)
-    I = 0.5 * (I + I.T)
-    return Inertial(float(mass_kg), tuple(float(v) for v in np.asarray(com_m, dtype=float)),
-                    tuple(tuple(float(v) for v in row) for row in I))
-
-
-def parallel_axis(I_com, mass, d) -> np.ndarray:
-    """Inertia about a point at offset ``-d`` from the COM (d = COM - point): I + m (|d|^2 E - d d^T)."""
-    d = np.asarray(d, dtype=float)
-    return np.asarray(I_com, dtype=float) + mass * (np.dot(d, d) * np.eye(3) - np.outer(d, d))
-
-
-def combine(items) -> Inertial:
-    """Sum of bodies (masses may be negative: a removed core) about the combined COM, same axes."""
-    items = list(items)
-    M = sum(it.mass_kg for it in items)
-    if M <= 0:
-        raise ValueError(f"combined mass {M!r} kg is not positive")
-    c = sum(it.mass_kg * it.com for it in items) / M
-    I = sum(parallel_axis(it.inertia, it.mass_kg, it.com - c) for it in items)
-    return make_inertial(M, c, I)
-
-
-# ----------------------------------------------------------------------------------------------- geometry
-@dataclass(frozen=True)
-class VolumeProps:
-    """Volume [mm^3], centroid [mm] and second moment of volume about the centroid [mm^5] (inertia / density)."""
-    volume_mm3: float
-    centroid_mm: tuple[float, float, float]
-    second_moment_mm5: tuple[tuple[float, float, float], ...]
-
-    def inertial(self, density_kg_m3: float) -> Inertial:
-        """As a uniform body of the given density, in SI."""
-        m = density_kg_m3 * units.volume_m3(self.volume_mm3)
-        return make_inertial(m, units.length_m(np.asarray(self.centroid_mm)),
-                             density_kg_m3 * units.second_moment_m5(np.asarray(self.second_moment_mm5)))
-
-
-def _props(volume, centroid, second) -> VolumeProps:
-    return VolumeProps(float(volume), tuple(float(v) for v in centroid),
-                       tuple(tuple(float(v) for v in row) for row in np.asarray(second)))
-
-
-def _wrapped(shape):
-    return shape.wrapped if hasattr(shape, "wrapped") else shape
-
-
-#: Relative accuracy asked of OpenCascade's adaptive volume integration. The fixed-order default was up to 0.5 %
-#: off on lofted parts (caudal_fin +0.49 % volume, hull_head_front_lower +0.20 %); adaptive at 1e-6 costs at most
-#: 0.7 s per part (the fin) and its reported error bound is below 1e-6 on every part of the default design.
-VOLUME_EPS = 1e-6
-
-
-def solid_volume_props(shape) -> VolumeProps:
-    """B-rep volume properties (OpenCascade, adaptive Gauss integration to :data:`VOLUME_EPS`) in mm."""
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-    g = GProp_GProps()
-    BRepGProp.VolumeProperties_s(_wrapped(shape), g, VOLUME_EPS)
-    c = g.CentreOfMass()
-    M = g.MatrixOfInertia()
-    second = [[M.Value(i, j) for j in (1, 2, 3)] for i in (1, 2, 3)]
-    return _props(g.Mass(), (c.X(), c.Y(), c.Z()), second)
-
-
-def solid_area_mm2(shape) -> float:
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-    g = GProp_GProps()
-    BRepGProp.SurfaceProperties_s(_wrapped(shape), g)
-    return float(g.Mass())
-
-
-def mesh_volume_props(mesh) -> VolumeProps:
-    """Volume properties of a closed triangle mesh (trimesh), density 1, about its centroid."""
-    mesh = mesh.copy()
-    mesh.density = 1.0
-    return _props(mesh.volume, mesh.center_mass, mesh.moment_inertia)
-
-
-def tessellate(shape, tolerance_mm: float, angular_tolerance_deg: float):
-    """The shape as a trimesh.Trimesh (mm): the same triangles as the exported STL (exports.files)."""
-    import trimesh
-    try:
-        from exports.files import tessellate as _tess
-    except ImportError:  # the file writers are not installed: build123d's own tessellation
-        verts, tris = shape.tessellate(tolerance_mm, math.radians(angular_tolerance_deg))
-        v = np.array([[p.X, p.Y, p.Z] for p in verts], dtype=float)
-        return trimesh.Trimesh(v, np.asarray(tris, dtype=np.int64), process=True)
-    m = _tess(shape, tolerance_mm, angular_tolerance_deg)
-    return trimesh.Trimesh(np.asarray(m.vertices, dtype=float), np.asarray(m.faces, dtype=np.int64), process=False)
 
 
 def rotation_matrix(print_rotation_deg) -> np.ndarray:
@@ -618,7 +500,7 @@ def link_of_station(p: Params, s_mm: float) -> int:
 
 
 def cable_masses(p: Params) -> list[PartMass]:
-    """The capstan cables as line masses along their rest routes (cad.layout.cable_routes), one entry per
+    """The capstan cables as line masses along their rest routes (swiftfin.layout.geometry.cable_routes), one entry per
     link a route crosses: segments are cut at the joint stations and each piece is a thin rod of the cable's
     diameter and ``cable.linear_density_g_m``. The wraps on the spools (about ``spool.wraps`` turns of
     ``pi x drum diameter`` per cable) are added to the head as a ring at the spool axis."""
@@ -650,13 +532,13 @@ def cable_masses(p: Params) -> list[PartMass]:
         pts = np.array([i.com for i in items])
         bbox = (tuple(pts.min(axis=0) - r), tuple(pts.max(axis=0) + r))
         out.append(PartMass(f"cables_link_{link}", link, "cable", False,
-                            "line mass: cable.linear_density_g_m along cad.layout.cable_routes (thin rods) plus the "
+                            "line mass: cable.linear_density_g_m along swiftfin.layout.geometry.cable_routes (thin rods) plus the "
                             "drum wraps", (), 0.0, 0.0, 0.0, 0.0, it, it, None, None, bbox))
     return out
 
 
 def _channel_centre_line(ch, n_arc: int = 33) -> np.ndarray:
-    from cad.guide import arc_points
+    from swiftfin.cad.guide import arc_points
     mid = arc_points(ch, n_arc) if ch.angle_rad > 1e-9 else np.array([ch.t1])
     return np.vstack([np.asarray(ch.p_in, float), mid, np.asarray(ch.p_out, float)])
 
@@ -680,7 +562,7 @@ def ptfe_tube_masses(p: Params) -> list[PartMass]:
     line of :class:`cad.guide.Channel`) clipped to its block's length, one entry per link. A tube is a hollow
     cylinder: mass rho pi (OD^2 - ID^2) / 4 per metre; its inertia across is taken as a solid rod's of the outer
     radius scaled to that mass (the radial term is < 1e-3 of the total for a piece longer than 5 OD)."""
-    from cad.guide import guide_blocks
+    from swiftfin.cad.guide import guide_blocks
     g = p.guides
     r_o, r_i = g.ptfe_tube_od_mm / 2, g.ptfe_tube_id_mm / 2
     rho_l = g.ptfe_density_kg_m3 * math.pi * units.length_m(1.0) ** 2 * (r_o**2 - r_i**2)   # kg/m
@@ -1154,15 +1036,6 @@ def report_to_dict(params: Params, report: MassReport) -> dict:
                   "static_pitch_deg": static_pitch_deg(report.total.com_m, report.cob_m)}
     d["trim"] = _jsonable(report.trim)
     return d
-
-
-def static_pitch_deg(com_m, cob_m) -> float:
-    """Pitch the straight fish settles at in still water [deg], nose down positive: the COM hangs under the COB,
-    so the body turns until the COB-COM line is vertical: atan(COM's lead over the COB / COB's height over it).
-    90 (or more) when the COB is not above the COM."""
-    dx = float(com_m[0] - cob_m[0])
-    dz = float(cob_m[2] - com_m[2])
-    return math.degrees(math.atan2(dx, dz))
 
 
 def _jsonable(d: dict) -> dict:

@@ -29,8 +29,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from exports.robot_model import Robot
-from exports.urdf import fmt, num
+from swiftfin.exports.robot_model import Robot
+from swiftfin.exports.urdf import fmt, num
 
 TIMESTEP_S = 5e-4
 

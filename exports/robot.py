@@ -7,7 +7,7 @@
 
 Everything goes through one :class:`exports.robot_model.Robot` (house style rule 11). The mass properties
 pass the gate of :func:`exports.massprops.validate` first, and the MJCF is compiled by MuJoCo before anything
-is written: a failure raises :class:`swiftfin.errors.BuildError` naming the part/link and the check, and
+is written: a failure raises :class:`swiftfin.core.errors.BuildError` naming the part/link and the check, and
 leaves no partial robot folder (files are written to a temporary folder and renamed into place).
 
 Meshes: the visual mesh of a link is its parts' tessellation (export tolerances) in the link frame, in metres,
@@ -24,12 +24,13 @@ from pathlib import Path
 
 import numpy as np
 
-from exports import massprops, units
-from exports.mjcf import mjcf_bytes
-from exports.robot_model import Robot, collision_mesh_file, robot_from_design, visual_mesh_file
-from exports.sdf import sdf_bytes
-from exports.urdf import urdf_bytes
-from swiftfin.errors import BuildError
+from swiftfin.core import units
+from swiftfin.exports import massprops
+from swiftfin.exports.mjcf import mjcf_bytes
+from swiftfin.exports.robot_model import Robot, collision_mesh_file, robot_from_design, visual_mesh_file
+from swiftfin.exports.sdf import sdf_bytes
+from swiftfin.exports.urdf import urdf_bytes
+from swiftfin.core.errors import BuildError
 
 ROBOT_NAME = "swiftfin"
 

@@ -22,10 +22,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from cad import layout
-from exports import units
-from exports.massprops import Inertial, MassReport, combine, link_origin_mm
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as layout
+from swiftfin.core import units
+from swiftfin.exports.massprops import Inertial, MassReport, combine, link_origin_mm
+from swiftfin.core.schema import Params
 
 JOINT_AXIS = (0.0, 0.0, -1.0)
 
@@ -170,7 +170,7 @@ def fluid_ellipsoid(p: Params, report: MassReport, j: int) -> Geometry:
     s0, s1 = bounds[j], bounds[j + 1]
     ax = (s1 - s0) / 2
     if j == 0:
-        from exports.massprops import envelope_volume_mm3
+        from swiftfin.exports.massprops import envelope_volume_mm3
         V, s_c = envelope_volume_mm3(p, s0, s1)
         # a_y * a_z = 3 V / (4 pi a_x), a_z = k a_y
         k = p.body.height_to_width
@@ -196,7 +196,7 @@ def fin_ellipsoid(p: Params, parts, last_link: int) -> Geometry | None:
     ``S / (pi b / 2)``, so the ellipse has the fin's area), centred at the planform's area centroid; thickness
     (y) and height of the centre from the fin parts' bounding box behind the hull end (the blade's thickest
     section). The bounding box's x extent is not the chord: the swept, lunate fin spans ~3 chords in x."""
-    from cad.fin import planform
+    from swiftfin.layout.fin_plan import planform
     x_end = -layout.hull_end_mm(p)
     lo, hi = None, None
     for part in parts:
@@ -222,7 +222,7 @@ def fin_ellipsoid(p: Params, parts, last_link: int) -> Geometry | None:
 
 
 def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfin") -> Robot:
-    """The Robot of a design: links and inertials from ``report``, joints from cad.layout.
+    """The Robot of a design: links and inertials from ``report``, joints from swiftfin.layout.geometry.
 
     Mesh file names follow :func:`visual_mesh_file` / :func:`collision_mesh_file` (written by exports.robot).
     """

@@ -10,8 +10,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from exports.robot_model import Geometry, Pose, Robot
-from exports.urdf import fmt, num
+from swiftfin.exports.robot_model import Geometry, Pose, Robot
+from swiftfin.exports.urdf import fmt, num
 
 SDF_VERSION = "1.9"
 

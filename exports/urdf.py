@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import xml.etree.ElementTree as ET
 
-from exports.robot_model import Geometry, Pose, Robot
+from swiftfin.exports.robot_model import Geometry, Pose, Robot
 
 
 def num(value: float) -> str:

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from physics.kinematics import relative_joint_angles_rad, wave_from_params
+from swiftfin.physics.kinematics import relative_joint_angles_rad, wave_from_params
 
 FLUIDCOEF_DEFAULT = (0.5, 0.25, 1.5, 1.0, 1.0)
 """MuJoCo's default fluidcoef: blunt drag, slender drag, angular drag, Kutta lift, Magnus lift."""

@@ -27,7 +27,7 @@ from typing import Any, Callable
 import numpy as np
 
 from swiftfin import __version__
-from swiftfin.schema import Params
+from swiftfin.core.schema import Params
 
 REPORT_NAME = "report.html"
 MASS_PROPERTIES_NAME = "mass_properties.json"
@@ -141,23 +141,6 @@ def sorted_findings(findings) -> list:
     return sorted(findings, key=key)
 
 
-def mass_props_for_rules(mp: dict | None):
-    """``design_rules.MassProperties`` from a mass_properties.json (exports.massprops.report_to_dict or the
-    flat ``swiftfin check --mass-properties`` form); None when absent or incomplete."""
-    from design_rules import MassProperties
-
-    if not mp:
-        return None
-    try:
-        if "total" in mp:
-            t = mp["total"]
-            return MassProperties(float(t["mass_kg"]), tuple(t["com_m"]), tuple(t["cob_m"]),
-                                  float(t["displaced_volume_m3"]))
-        return MassProperties.from_dict({k: mp[k] for k in ("total_mass_kg", "com_m", "cob_m", "displaced_volume_m3")})
-    except (KeyError, TypeError, ValueError):
-        return None
-
-
 def part_mass_index(mp: dict | None) -> dict[str, dict]:
     if not mp:
         return {}
@@ -167,7 +150,7 @@ def part_mass_index(mp: dict | None) -> dict[str, dict]:
 # ----------------------------------------------------------------------------------------------- sections
 def render_pictures(parts: list[ReportPart], progress: Callable[[str], None]) -> tuple[dict, dict[str, bytes], float]:
     """Assembly pictures ({'exterior', 'cutaway'}) and one picture per printed part; returns the seconds taken."""
-    from report.render import MeshItem, png_bytes, render
+    from swiftfin.report.render import MeshItem, png_bytes, render
 
     t0 = time.perf_counter()
     items = {p.label: MeshItem(p.vertices, p.faces, FAMILY_COLORS.get(p.family, OTHER_COLOR), p.label) for p in parts}
@@ -186,7 +169,7 @@ def render_pictures(parts: list[ReportPart], progress: Callable[[str], None]) ->
 
 
 def overview_section(p: Params, parts, mp, findings, audit, params_name: str) -> str:
-    from design_rules import Severity
+    from swiftfin.design_rules import Severity
 
     tiles = []
     tiles.append(tile("body length", num(p.body.length_mm, ".0f", "mm"),
@@ -364,7 +347,7 @@ def plot_section(plot, alt: str) -> str:
 
 
 def audit_section(audit) -> str:
-    from physics.paper_audit import TOLERANCE
+    from swiftfin.design_rules.paper_audit import TOLERANCE
 
     rows, classes = [], []
     for e in audit:
@@ -518,16 +501,9 @@ footer{color:var(--muted);font-size:12.5px;text-align:center;padding:10px 0 30px
 def standard_plots(params: Params) -> tuple:
     """The efficiency, tail-beat and body-wave plots of a design (pure functions of the frozen Params, so
     they are computed once per design in a process)."""
-    from report import plots
+    from swiftfin.report import plots
 
     return plots.efficiency_plot(params), plots.joint_plot(params), plots.wave_plot(params)
-
-
-@functools.lru_cache(maxsize=1)
-def _audit_entries() -> tuple:
-    from physics.paper_audit import audit_entries
-
-    return tuple(audit_entries())
 
 
 @dataclass
@@ -538,24 +514,14 @@ class ReportTiming:
     steps: dict = field(default_factory=dict)
 
 
-def build_page(params: Params, parts=None, mass_properties: dict | None = None, fit_dir=None, findings=None,
-               audit=None, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
+def build_page(params: Params, parts=None, mass_properties: dict | None = None, fit_dir=None, *, findings,
+               audit, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
                mass_note: str = "", timing: ReportTiming | None = None) -> str:
     """The report page as a string (see :func:`write_report`)."""
-    from design_rules import RuleContext, run_rules
-
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
     t_start = time.perf_counter()
     rparts = [as_report_part(x) for x in parts] if parts is not None else None
-    if findings is None:
-        progress("applying the design rules")
-        boxes = {x.label: x.print_size_mm for x in rparts if x.printed and x.print_size_mm} if rparts else None
-        findings = run_rules(RuleContext(params, mass_properties=mass_props_for_rules(mass_properties),
-                                         part_bboxes_mm=boxes or None))
-    if audit is None:
-        progress("recomputing the paper audit")
-        audit = list(_audit_entries())
     pics = part_pics = None
     if rparts:
         pics, part_pics, timing.render_s = render_pictures(rparts, progress)
@@ -603,40 +569,24 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
             f"</footer></body></html>\n")
 
 
-def write_report(params: Params, out_dir, parts=None, mass_properties: dict | None = None, fit_dir=None,
-                 findings=None, audit=None, progress: Callable[[str], None] | None = None,
+def write_report(params: Params, out_dir, parts=None, mass_properties: dict | None = None, fit_dir=None, *,
+                 findings, audit, progress: Callable[[str], None] | None = None,
                  params_name: str = "swiftfin.toml", mass_note: str = "",
                  timing: ReportTiming | None = None) -> Path:
     """Write ``out_dir/report.html`` and return its path.
 
     ``parts``: ReportParts or ``swiftfin.pipeline.BuiltPart``s (None: no pictures, the page says so);
     ``mass_properties``: the content of ``mass_properties.json`` (None: the page says it was not computed);
-    ``fit_dir``: a ``swiftfin fit`` output folder; ``findings`` / ``audit``: computed here when None.
+    ``fit_dir``: a ``swiftfin fit`` output folder; ``findings`` / ``audit``: the design rules' findings and the
+    paper audit's entries, computed by the caller (the report shows, it does not compute).
     The file is written to a temporary name and renamed, so a failed report never leaves half a page.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    page = build_page(params, parts, mass_properties, fit_dir, findings, audit, progress, params_name, mass_note,
-                      timing)
+    page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
+                      params_name=params_name, mass_note=mass_note, timing=timing)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")
     tmp.replace(path)
     return path
-
-
-def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
-                     progress: Callable[[str], None] | None = None, fit_dir=None) -> Path:
-    """The report of a finished ``swiftfin.pipeline.build`` (``result``: its BuildResult) into its folder: the
-    parts as built, the mass table from ``out_dir/mass_properties.json`` when the build wrote one. For
-    ``swiftfin build`` to call after the files are in place."""
-    out = Path(out_dir)
-    mp, note = None, ""
-    mpath = out / MASS_PROPERTIES_NAME
-    if mpath.is_file():
-        try:
-            mp, note = json.loads(mpath.read_text()), f"From {MASS_PROPERTIES_NAME} in this build."
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-            note = f"{MASS_PROPERTIES_NAME} in this build is not readable JSON ({exc})."
-    return write_report(result.params, out, parts=result.parts, mass_properties=mp, fit_dir=fit_dir,
-                        progress=progress, params_name=params_name, mass_note=note)

@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from physics import capstan, efficiency, servo_gear
-from physics.kinematics import absolute_tangent_angles_rad, wave_from_params
-from swiftfin.schema import Params
+from swiftfin.physics import capstan, efficiency, servo_gear
+from swiftfin.physics.kinematics import absolute_tangent_angles_rad, wave_from_params
+from swiftfin.core.schema import Params
 
 INK = "#1f2a37"
 GRID = "#d9dee5"
@@ -78,13 +78,13 @@ def efficiency_curves(p: Params, frequency_hz: np.ndarray) -> dict[str, np.ndarr
     * ``capstan_model_paper``: eq. 28 with the paper's §2.3 inputs and the guides' own eq. 25 (two 90 deg PTFE
       bends): eta_c (eq. 26) x e^(-mu pi/2)^2 x eta_cable. No term of the model depends on frequency.
     * ``capstan_model_design_best`` / ``_worst``: eq. 28 for this design's cable routes (the total bend of each
-      joint's route from cad/layout.py, physics.loads.drive_loads), best and worst joint.
+      joint's route from cad/layout.py, swiftfin.layout.loads.drive_loads), best and worst joint.
     * ``servo_model_derived``: eq. 18 with the three-stage mesh efficiency of eq. 4-5 and the backlash power
       derived from eq. 6-8 at the §2.2.2 inputs; P_mech = P0 f with P0 = 2.16 W / 3 Hz (the paper's operating
       point). Friction and inertia terms need Table 1's constants, which the paper leaves blank: omitted.
     * ``servo_model_as_printed``: the same with eq. 12's backlash as printed (0.046 W at 3 Hz), scaled as f^3.
     """
-    from physics.loads import drive_loads, joint_loads
+    from swiftfin.layout.loads import drive_loads, joint_loads
 
     f = np.asarray(frequency_hz, float)
     eta_c_paper = capstan.contact_efficiency(0.15, CONTACT_DT_RATIO)
@@ -165,7 +165,7 @@ def efficiency_plot(p: Params) -> Plot:
 # ----------------------------------------------------------------------------------------------- one tail-beat
 def tail_beat(p: Params, n_samples: int = 256) -> dict:
     """Relative joint angles, the paper's eq. 47 command and the motors' full-step rates over one period."""
-    from physics.loads import drive_loads, joint_loads
+    from swiftfin.layout.loads import drive_loads, joint_loads
 
     jl = joint_loads(p, n_samples=n_samples, n_strips=120)
     dl = drive_loads(p, jl)
@@ -221,7 +221,7 @@ def joint_plot(p: Params) -> Plot:
 # ----------------------------------------------------------------------------------------------- body wave
 def wave_plot(p: Params, n_phases: int = 8) -> Plot:
     """The body wave y(x, t) = A(x) sin(kx - wt): envelope, snapshots and the joint stations."""
-    from cad.layout import hull_end_mm, joint_stations_mm
+    from swiftfin.layout.geometry import hull_end_mm, joint_stations_mm
 
     L = p.body.length_mm / 1000.0
     wave = wave_from_params(p.swimming, L)

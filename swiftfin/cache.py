@@ -41,9 +41,9 @@ from pathlib import Path
 from typing import Any
 
 from swiftfin import __version__
-from swiftfin.params import get_key
+from swiftfin.core.params import get_key
 
-PROJECT_PACKAGES = ("cad", "physics", "swiftfin", "exports", "design_rules")
+PROJECT_PACKAGES = ("swiftfin",)
 CACHE_ENV = "SWIFTFIN_CACHE_DIR"
 DEFAULT_CACHE_DIR = Path(".cache") / "swiftfin"
 FORMAT = 1  # bump when the layout of an entry changes

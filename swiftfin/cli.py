@@ -1,5 +1,8 @@
-"""The ``swiftfin`` command. Each sub-command lives in ``swiftfin/commands/<name>.py`` and exposes
-``register(subparsers)`` (adds its parser, sets ``func``) and a ``run(args) -> int``.
+"""The ``swiftfin`` command (also ``python -m swiftfin``).
+
+Each sub-command lives in ``swiftfin/commands/<name>.py`` and exposes ``configure(parser)`` (adds its arguments,
+sets ``func``) and ``run(args) -> int``. Only the command being run is imported: ``swiftfin check`` never loads
+the CAD kernel, the calibration engine or the simulators, and ``swiftfin --help`` loads none of them.
 
 Bad input (ParamError, UserError) prints one clear message on stderr and exits 2; a failed build check
 (BuildError) exits 1. Tracebacks are for bugs only.
@@ -9,36 +12,125 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+import textwrap
+from dataclasses import dataclass
 
 from swiftfin import __version__
-from swiftfin.errors import BuildError, UserError
-from swiftfin.params import ParamError
-
-COMMANDS = ("build", "check", "audit", "fit", "synth", "report", "params")
+from swiftfin.core.errors import BuildError, UserError
+from swiftfin.core.params import ParamError
 
 
-def make_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="swiftfin", description=__doc__.split("\n")[0])
+@dataclass(frozen=True)
+class Command:
+    summary: str        # one line, for `swiftfin --help`
+    description: str    # one paragraph, for `swiftfin COMMAND --help`
+    examples: str       # command lines, one per line
+
+
+COMMANDS: dict[str, Command] = {
+    "build": Command(
+        "build every part (STEP, STL, 3MF), the assembly, the simulator files and the report",
+        "Builds every part of the design from one parameter file: each part as STEP, STL and 3MF (printed parts "
+        "turned to their print orientation), the assembly STEP with its clearance proof, the mass properties, the "
+        "robot for simulators (URDF, MJCF, SDF), report.html and manifest.json. Part families whose inputs did not "
+        "change are taken from the rebuild cache. The output folder is written whole or not at all.",
+        "swiftfin build                          # ./swiftfin.toml (or the shipped design) -> build/\n"
+        "swiftfin build my_fish.toml --out my_build\n"
+        "swiftfin build --no-cache               # every part afresh"),
+    "check": Command(
+        "apply the design rules (exit 1 if any fails)",
+        "Applies every design rule to the design (drum to cable diameter, pretension, holding torque against the "
+        "swimming load, cable strength and stretch, slack, stepper pull-out, Strouhal number, print bed, and with "
+        "a build's mass properties the floating rules) and prints a table of findings. Exit 0 when no rule fails, "
+        "1 when one does, 2 for a bad input file. Needs no CAD kernel.",
+        "swiftfin check\n"
+        "swiftfin check my_fish.toml --json check.json\n"
+        "swiftfin check --mass-properties build/mass_properties.json --loads"),
+    "audit": Command(
+        "recompute the paper's derived numbers and say which hold",
+        "Recomputes every number the SwiftFin paper derives from its own inputs (its equations, tables and "
+        "claims) and says, entry by entry, whether it holds. Always exits 0: the audit reports on the paper.",
+        "swiftfin audit\n"
+        "swiftfin audit --json audit.json"),
+    "fit": Command(
+        "fit a model family to measured data and name the effects it lacks",
+        "Compares a model family (joint: a capstan-driven tail joint; drive: a one-axis drive such as EMPS; body: "
+        "the body wave from video markers) with a measured log, diagnoses the residual and adds named physical "
+        "effects one at a time, each kept only when it lowers the error on held-out data. Writes fit_report.json, "
+        "fit_report.md and plots to --out.",
+        "swiftfin fit joint bench_log.csv --design swiftfin.toml --out fit_joint\n"
+        "swiftfin fit drive DATA_EMPS.mat --holdout DATA_EMPS_PULSES.mat --out fit_emps\n"
+        "swiftfin fit body fishsim/ --holdout fishsim/markers_f2_25.csv --out fit_body"),
+    "synth": Command(
+        "simulate a measured log with chosen (undeclared) effects",
+        "Simulates a bench log of one tail joint of the design (stepper, spool, pretensioned elastic cables, the "
+        "link with inertia, damping, drag and friction, an encoder with noise) with the effects you choose, to "
+        "test `swiftfin fit` on known truth.",
+        "swiftfin synth joint --effect backlash --out log.csv\n"
+        "swiftfin synth joint --effect coulomb_friction=0.02 --effect sensor_delay --seed 3 --out log.csv"),
+    "report": Command(
+        "write DIR/report.html: pictures, rules, masses, plots, audit, fit",
+        "Writes the design report, one self-contained HTML page: the assembly and every printed part rendered, "
+        "the design rules, the mass table, the efficiency, tail-beat and body-wave plots, the paper audit and, "
+        "with --fit, a fit's before and after. Uses the build in DIR when it is of the same parameter file.",
+        "swiftfin report --out build\n"
+        "swiftfin report my_fish.toml --out my_build --fit fit_joint"),
+    "params": Command(
+        "validate a parameter file or print the documented defaults",
+        "Validates a parameter file (every problem at once, each with its key, value and allowed range) or, with "
+        "--dump, prints the default design with every key's unit, range and source: the starting point of a "
+        "design of your own.",
+        "swiftfin params --dump > my_fish.toml   # then edit, and: swiftfin build my_fish.toml\n"
+        "swiftfin params my_fish.toml"),
+}
+
+DESCRIPTION = ("Parametric CAD and mechanism design for a capstan-driven robotic tuna (the SwiftFin): every part "
+               "from one parameter file, the design rules, simulator files and calibration against measured data.")
+EPILOG = ("Without a parameter file, a command uses ./swiftfin.toml when there is one, otherwise the SwiftFin "
+          "design shipped with swiftfin. `swiftfin COMMAND --help` describes each command, with examples.")
+
+
+def _selected(argv: list[str]) -> str | None:
+    """The sub-command named on the command line (the first argument that is not an option)."""
+    for a in argv:
+        if not a.startswith("-"):
+            return a if a in COMMANDS else None
+    return None
+
+
+def make_parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
+    """The parser; only the selected command's module is imported (``argv`` None: every command's, for tests)."""
+    parser = argparse.ArgumentParser(prog="swiftfin", description=DESCRIPTION, epilog=EPILOG)
     parser.add_argument("--version", action="version", version=f"swiftfin {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in COMMANDS:
-        try:
-            module = importlib.import_module(f"swiftfin.commands.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name == f"swiftfin.commands.{name}":
-                continue  # command not part of this installation
-            raise
-        module.register(sub)
+    chosen = _selected(argv) if argv is not None else None
+    for name, cmd in COMMANDS.items():
+        examples = textwrap.indent(cmd.examples, "  ")
+        ap = sub.add_parser(name, help=cmd.summary, description=textwrap.fill(cmd.description, 100),
+                            epilog=f"examples:\n{examples}", formatter_class=argparse.RawDescriptionHelpFormatter)
+        if argv is None or name == chosen:
+            importlib.import_module(f"swiftfin.commands.{name}").configure(ap)
     return parser
 
 
+def _resolve_default_design(args) -> None:
+    """A command given no parameter file uses ./swiftfin.toml, or the design shipped with swiftfin."""
+    for attr in ("params_file", "design"):
+        if hasattr(args, attr) and getattr(args, attr) is None:
+            from swiftfin.layout.design import default_design_path
+
+            setattr(args, attr, str(default_design_path()))
+
+
 def main(argv: list[str] | None = None) -> int:
-    parser = make_parser()
+    argv = sys.argv[1:] if argv is None else list(argv)
+    parser = make_parser(argv)
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
     try:
+        _resolve_default_design(args)
         return int(args.func(args) or 0)
     except ParamError as exc:
         print(f"swiftfin {args.command}: error: {exc}", file=sys.stderr)

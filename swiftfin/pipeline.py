@@ -14,6 +14,7 @@
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
 import re
 import shutil
@@ -24,13 +25,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
-from cad.part import PartSpec
-from cad.registry import FAMILIES, family_function
-from exports.manifest import MANIFEST_NAME, make_manifest, manifest_text, sha256_bytes
+from swiftfin.cad.part import PartSpec
+from swiftfin.cad.registry import FAMILIES, family_function
+from swiftfin.exports.manifest import MANIFEST_NAME, make_manifest, manifest_text, sha256_bytes
 from swiftfin.cache import FamilyCache, brep_roundtrip, record_reads, shape_from_brep
-from swiftfin.config import load_design
-from swiftfin.errors import BuildError, UserError
-from swiftfin.schema import Params
+from swiftfin.layout.design import load_design
+from swiftfin.core.errors import BuildError, UserError
+from swiftfin.core.schema import Params
 
 LABEL_RE = re.compile(r"^[a-z][a-z0-9_]*$")
 FILE_KINDS = (".step", ".stl", ".3mf")
@@ -96,7 +97,7 @@ def family_modules(name: str) -> tuple[str, ...]:
 
 def run_family(name: str, p: Params, cache: FamilyCache | None) -> tuple[list[BuiltPart], float]:
     """Build (or fetch from the cache) one family's parts with their exports. Returns (parts, seconds)."""
-    from exports.files import export_part
+    from swiftfin.exports.files import export_part
 
     t0 = time.perf_counter()
     skey = None
@@ -165,7 +166,7 @@ def build_parts(p: Params, cache: FamilyCache | None = None,
 
 
 def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=None) -> None:
-    from cad.assembly import PassedPairs, Placed, check_assembly
+    from swiftfin.cad.assembly import PassedPairs, Placed, check_assembly
 
     t0 = time.perf_counter()
     placed = [Placed(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
@@ -177,8 +178,8 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
 
 # --------------------------------------------------------------------------------------------- writing
 def assembly_step(result: BuildResult) -> bytes:
-    from cad.assembly import make_assembly
-    from exports.files import step_bytes
+    from swiftfin.cad.assembly import make_assembly
+    from swiftfin.exports.files import step_bytes
 
     return step_bytes(make_assembly([b.spec for b in result.parts]), "swiftfin_assembly")
 
@@ -217,8 +218,7 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
                            progress: Callable[[str], None] | None = None) -> list[dict]:
     """Mass properties with their validation gate, the simulator files (exports.robot) and report.html, into
     ``folder``; returns their manifest entries. BuildError names the part or link that fails the gate."""
-    from exports.robot import write_robot
-    from report.html import report_for_build
+    from swiftfin.exports.robot import write_robot
     if progress:
         progress("  mass properties, validation gate and simulator files ...")
     robot = write_robot(result.params, [b.spec for b in result.parts], folder,
@@ -304,3 +304,35 @@ def summary_table(result: BuildResult) -> str:
 
 def stderr_progress(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
+
+
+def report_findings(params: Params, parts, mass_properties: dict | None) -> tuple[list, list]:
+    """What the report shows and does not compute: the design rules' findings (with the build's mass properties
+    and the printed parts' boxes when there are any) and the paper audit's entries."""
+    from swiftfin.design_rules import design_findings
+    from swiftfin.design_rules.paper_audit import audit_entries
+    from swiftfin.report.html import as_report_part
+
+    rparts = [as_report_part(x) for x in parts] if parts else []
+    boxes = {x.label: x.print_size_mm for x in rparts if x.printed and x.print_size_mm}
+    return design_findings(params, mass_properties, boxes), list(audit_entries())
+
+
+def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
+                     progress: Callable[[str], None] | None = None, fit_dir=None) -> Path:
+    """The report of a finished ``swiftfin.pipeline.build`` (``result``: its BuildResult) into its folder: the
+    parts as built, the mass table from ``out_dir/mass_properties.json`` when the build wrote one. For
+    ``swiftfin build`` to call after the files are in place."""
+    from swiftfin.report.html import MASS_PROPERTIES_NAME, write_report
+
+    out = Path(out_dir)
+    mp, note = None, ""
+    mpath = out / MASS_PROPERTIES_NAME
+    if mpath.is_file():
+        try:
+            mp, note = json.loads(mpath.read_text()), f"From {MASS_PROPERTIES_NAME} in this build."
+        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+            note = f"{MASS_PROPERTIES_NAME} in this build is not readable JSON ({exc})."
+    findings, audit = report_findings(result.params, result.parts, mp)
+    return write_report(result.params, out, parts=result.parts, mass_properties=mp, fit_dir=fit_dir,
+                        findings=findings, audit=audit, progress=progress, params_name=params_name, mass_note=note)

@@ -36,7 +36,7 @@ def require_shared(*parts: str) -> Path:
 
 @pytest.fixture(scope="session")
 def default_params():
-    from swiftfin.config import load_design
+    from swiftfin.layout.design import load_design
     return load_design(DEFAULT_DESIGN)
 
 
@@ -44,7 +44,7 @@ def default_params():
 def default_parts(default_params):
     """Every part of the default design: each family of cad/registry.py, in build order (built once per
     session: about 30 s)."""
-    from cad.registry import FAMILIES, family_function
+    from swiftfin.cad.registry import FAMILIES, family_function
     parts = []
     for name in FAMILIES:
         parts += family_function(name)(default_params)

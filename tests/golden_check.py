@@ -13,7 +13,7 @@ GOLDEN = Path(__file__).parent / "golden"
 def precise_volume_mm3(solid) -> float:
     """B-rep volume by adaptive integration (eps 1e-6, :func:`exports.massprops.solid_volume_props`).
     ``Shape.volume`` uses a fixed-order rule that is off by up to 0.5 % on lofted B-spline solids."""
-    from exports.massprops import solid_volume_props
+    from swiftfin.exports.massprops import solid_volume_props
     return solid_volume_props(solid).volume_mm3
 
 

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 from build123d import Axis, Box, Pos
 
-from cad import layout
-from cad.part import PartSpec
+from swiftfin.layout import geometry as layout
+from swiftfin.cad.part import PartSpec
 
 
 def mini_parts(p) -> list[PartSpec]:

@@ -7,12 +7,12 @@ import build123d as bd
 import numpy as np
 import pytest
 
-from cad.assembly import (Contact, Placed, chain_transform, check_assembly, inner_envelope_excess_mm,
+from swiftfin.cad.assembly import (Contact, Placed, chain_transform, check_assembly, inner_envelope_excess_mm,
                           joint_transform, link_transform)
-from cad.layout import half_height_mm, joint_stations_mm, joint_stop_angles_rad, naca_half_width_mm
-from exports.files import tessellate
-from swiftfin.errors import BuildError
-from swiftfin.schema import Params
+from swiftfin.layout.geometry import half_height_mm, joint_stations_mm, joint_stop_angles_rad, naca_half_width_mm
+from swiftfin.exports.files import tessellate
+from swiftfin.core.errors import BuildError
+from swiftfin.core.schema import Params
 
 P = Params()  # the schema defaults are the default design
 
@@ -171,7 +171,7 @@ def test_default_design_passes_the_assembly_checks(default_params, tmp_path_fact
 
 def test_clevis_contact_applies_only_near_the_joint():
     """The link-in-clevis contact covers the hull piece at the joint, not every piece of the link ahead."""
-    from cad.assembly import CONTACTS, contact_reason
+    from swiftfin.cad.assembly import CONTACTS, contact_reason
 
     s1 = joint_stations_mm(P)[0]
     link = placed("joint_link_1", box(-s1 - 5, -s1 + 5, -5, 5, -5, 5), link=1)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from physics.paper_audit import agrees, audit_entries
+from swiftfin.design_rules.paper_audit import agrees, audit_entries
 from swiftfin.cli import main
 
 # entry -> (recomputed value worked by hand, holds?)
@@ -120,8 +120,8 @@ def test_eq47_entries(entries):
 
 
 def test_load_model_power_entry(entries):
-    from physics.loads import joint_loads
-    from swiftfin.schema import Params
+    from swiftfin.layout.loads import joint_loads
+    from swiftfin.core.schema import Params
     e = entries["load_model_power"]
     assert e.recomputed == pytest.approx(joint_loads(Params()).mean_positive_power_w, rel=1e-9)
     assert e.recomputed > 10 * 2.16 and e.holds is False

@@ -6,10 +6,10 @@ import math
 import pytest
 from build123d import Vector
 
-from cad import layout as L
-from cad.bought import MOTOR_CORNER_CHAMFER_FRACTION, make_bought_parts, pilot_hole_diameter_mm
-from swiftfin.params import replace_key
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.cad.bought import MOTOR_CORNER_CHAMFER_FRACTION, make_bought_parts, pilot_hole_diameter_mm
+from swiftfin.core.params import replace_key
+from swiftfin.core.schema import Params
 
 
 @pytest.fixture(scope="session")

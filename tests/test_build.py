@@ -7,11 +7,11 @@ import tomllib
 import pytest
 import tomli_w
 
-from cad import registry
-from exports.manifest import verify_manifest
+from swiftfin.cad import registry
+from swiftfin.exports.manifest import verify_manifest
 from swiftfin import pipeline
 from swiftfin.cli import main
-from swiftfin.params import dump_toml
+from swiftfin.core.params import dump_toml
 from tests.conftest import DEFAULT_DESIGN
 
 

@@ -8,9 +8,9 @@ import pytest
 
 from swiftfin import cache as cache_mod
 from swiftfin.cache import FamilyCache, RecordingParams, module_closure, record_reads, source_hash
-from swiftfin.params import replace_key
+from swiftfin.core.params import replace_key
 from swiftfin.pipeline import build_parts, run_family
-from swiftfin.schema import Params, Spool
+from swiftfin.core.schema import Params, Spool
 
 
 # --------------------------------------------------------------------------------------------- the proxy
@@ -44,8 +44,8 @@ def test_proxy_looks_like_params_and_is_read_only():
 
 # --------------------------------------------------------------------------------------------- source hash
 def test_module_closure_follows_project_imports():
-    mods = module_closure("cad.layout")
-    assert {"cad.layout", "physics.kinematics", "swiftfin.params", "swiftfin.schema"} <= set(mods)
+    mods = module_closure("swiftfin.layout.geometry")
+    assert {"swiftfin.layout.geometry", "swiftfin.physics.kinematics", "swiftfin.core.params", "swiftfin.core.schema"} <= set(mods)
     assert not any(m.startswith(("numpy", "build123d")) for m in mods)
 
 

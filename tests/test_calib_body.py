@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from calibration.body import (FAMILY, BodySamples, body_context, cross_file_rmse, samples_context)
-from calibration.engine import Calibrator
-from calibration.fishsim import dominant_frequency_hz
+from swiftfin.calibration.body import (FAMILY, BodySamples, body_context, cross_file_rmse, samples_context)
+from swiftfin.calibration.engine import Calibrator
+from swiftfin.calibration.fishsim import dominant_frequency_hz
 from tests.conftest import ROOT, require_shared
 
 ARC = np.array([0.34, 0.39, 0.42, 0.45, 0.48, 0.51, 0.58])   # body markers 2..8 [m]
@@ -106,7 +106,7 @@ def test_library_names():
 @pytest.fixture(scope="module")
 def real():
     require_shared("data", "fishsim", "markers_f1_00.csv")
-    from calibration.fishsim import load_all
+    from swiftfin.calibration.fishsim import load_all
     return load_all(ROOT)
 
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from calibration.drive import (DriveModel, EFFECTS, FAMILY, inverse_dynamics_data, load, read_drive_csv,
+from swiftfin.calibration.drive import (DriveModel, EFFECTS, FAMILY, inverse_dynamics_data, load, read_drive_csv,
                                relative_error_pct)
-from swiftfin.errors import UserError
+from swiftfin.core.errors import UserError
 
 FS = 1000.0
 
@@ -80,7 +80,7 @@ def test_stribeck_velocity_found_by_search(tmp_path):
 
 def test_engine_selects_the_injected_effects(tmp_path):
     """Forward selection on a synthetic log with viscous + Coulomb + offset: those three and nothing else."""
-    from calibration.engine import Calibrator
+    from swiftfin.calibration.engine import Calibrator
     t, q, v, a = _trajectory(seconds=40.0, seed=5)
     F = _force(t, q, v, a, ("viscous", "coulomb", "offset"))
     tr = load(_write(tmp_path / "tr.csv", t, q, F))

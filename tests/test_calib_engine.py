@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from calibration import effects as op
-from calibration.engine import (Calibrator, Context, Effect, Family, Param, acf, block_test,
+from swiftfin.calibration import effects as op
+from swiftfin.calibration.engine import (Calibrator, Context, Effect, Family, Param, acf, block_test,
                                 effective_sample_fraction, effective_sample_size, get_family, heldout_f_test,
                                 ljung_box)
 

@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from calibration.io import Column, read_log, split_holdout_arg
+from swiftfin.calibration.io import Column, read_log, split_holdout_arg
 from swiftfin.cli import main
-from swiftfin.errors import UserError
+from swiftfin.core.errors import UserError
 from tests.conftest import DEFAULT_DESIGN
 
 HEADER = "time_s,motor_angle_rad,joint_angle_rad"
@@ -18,8 +18,8 @@ HEADER = "time_s,motor_angle_rad,joint_angle_rad"
 
 @pytest.fixture(scope="module")
 def good_rows(default_params):
-    from calibration.joint import joint_design
-    from calibration.synth import simulate_joint
+    from swiftfin.calibration.joint import joint_design
+    from swiftfin.calibration.synth import simulate_joint
     log = simulate_joint(joint_design(default_params), {}, duration_s=6.0, seed=2)
     return np.column_stack([log.t, log.motor_angle_rad, log.joint_angle_rad])
 

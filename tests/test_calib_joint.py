@@ -8,9 +8,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from calibration.engine import Calibrator, Context
-from calibration.joint import EQUIVALENT, FAMILY, joint_context, joint_design
-from calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, simulate_joint
+from swiftfin.calibration.engine import Calibrator, Context
+from swiftfin.calibration.joint import EQUIVALENT, FAMILY, joint_context, joint_design
+from swiftfin.calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, simulate_joint
 
 FLOOR_FACTOR = 1.5   # "near the noise level": held-out RMSE within 1.5 x that of a clean log (noise + floor)
 

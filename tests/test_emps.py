@@ -11,7 +11,7 @@ from tests.conftest import ROOT, require_shared
 @pytest.fixture(scope="module")
 def emps():
     require_shared("data", "emps", "DATA_EMPS.mat")
-    from calibration.emps import load_emps_pair
+    from swiftfin.calibration.emps import load_emps_pair
     return load_emps_pair(ROOT)
 
 
@@ -29,7 +29,8 @@ def test_loader_shapes_and_units(emps):
 
 
 def test_idim_ls_symmetric_reproduces_published(emps):
-    from calibration.emps import PUBLISHED, idim_ls
+    from swiftfin.calibration.drive import idim_ls
+    from swiftfin.calibration.emps import PUBLISHED
     r = idim_ls(ROOT)
     assert r["cutoff_hz"] == pytest.approx(100.0, rel=1e-3) and r["decimation"] == 10
     assert r["M"] == pytest.approx(PUBLISHED["M"], rel=0.005)
@@ -44,7 +45,7 @@ def test_idim_ls_symmetric_reproduces_published(emps):
 
 
 def test_idim_ls_asymmetric_reproduces_published(emps):
-    from calibration.emps import idim_ls
+    from swiftfin.calibration.drive import idim_ls
     r = idim_ls(ROOT, asymmetric=True)
     assert r["rel_error_estimation_pct"] == pytest.approx(3.1, abs=0.15)
     assert r["rel_error_validation_pct"] == pytest.approx(5.4, abs=0.1)
@@ -60,8 +61,8 @@ def test_engine_finds_friction_offset_then_asymmetry_on_emps(emps):
     force error on the pulse run 67.2 % -> 16.3 -> 8.2 -> 6.00 (published symmetric model) -> 5.39 % (published
     asymmetric: 5.4). Given the asymmetry the offset falls to -0.3 N and no longer pays its way, so backward
     pruning removes it: the symmetric model's -3.16 N offset was the direction-dependent viscous friction."""
-    from calibration.drive import FAMILY, load, relative_error_pct
-    from calibration.engine import Calibrator
+    from swiftfin.calibration.drive import FAMILY, load, relative_error_pct
+    from swiftfin.calibration.engine import Calibrator
     base = require_shared("data", "emps")
     tr, ho = load(base / "DATA_EMPS.mat"), load(base / "DATA_EMPS_PULSES.mat")
     cal = Calibrator(FAMILY, max_effects=6).fit(tr, ho)
@@ -86,8 +87,8 @@ def test_engine_finds_friction_offset_then_asymmetry_on_emps(emps):
 def test_engine_without_asymmetry_finds_the_published_symmetric_model(emps):
     """Library without asymmetric_friction: the engine finds Coulomb, viscous friction and the offset, in that
     order, and lands on the published IDIM-LS model (4.12 % estimation, 6.00 % validation)."""
-    from calibration.drive import FAMILY, load, relative_error_pct
-    from calibration.engine import Calibrator
+    from swiftfin.calibration.drive import FAMILY, load, relative_error_pct
+    from swiftfin.calibration.engine import Calibrator
     base = require_shared("data", "emps")
     tr, ho = load(base / "DATA_EMPS.mat"), load(base / "DATA_EMPS_PULSES.mat")
     lib = [e.name for e in FAMILY.effects if e.name != "asymmetric_friction"]

@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 import trimesh
 
-from exports.files import (Mesh, export_part, is_closed, print_transform, rotation_matrix, step_bytes, stl_bytes,
+from swiftfin.exports.files import (Mesh, export_part, is_closed, print_transform, rotation_matrix, step_bytes, stl_bytes,
                            tessellate, threemf_bytes)
-from exports.manifest import verify_manifest
+from swiftfin.exports.manifest import verify_manifest
 from swiftfin.cache import FamilyCache
 from swiftfin.pipeline import build_parts, write_outputs
-from swiftfin.schema import Params
+from swiftfin.core.schema import Params
 from tests.conftest import DEFAULT_DESIGN
 from tests.golden_check import precise_volume_mm3
 
@@ -194,7 +194,7 @@ def test_two_cold_builds_give_the_same_stl_and_3mf_bytes(default_build, default_
 
 
 def test_export_part_files_only_for_printed_parts():
-    from cad.part import PartSpec
+    from swiftfin.cad.part import PartSpec
 
     p = Params()
     solid = bd.Box(10, 10, 10)

@@ -8,9 +8,9 @@ import build123d as bd
 import numpy as np
 import pytest
 
-from cad import layout as L
-from cad.fin import blade_solid, make_caudal_fin, planform, tang_dims_mm
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.cad.fin import blade_solid, make_caudal_fin, planform, tang_dims_mm
+from swiftfin.core.schema import Params
 from tests.golden_check import check_golden
 
 P = Params()

@@ -6,9 +6,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from calibration.fishsim import (FRAME_RATE_HZ, HEAD_MARKER_SPACING_M, drive_frequency_from_name,
+from swiftfin.calibration.fishsim import (FRAME_RATE_HZ, HEAD_MARKER_SPACING_M, drive_frequency_from_name,
                                  dominant_frequency_hz, load_markers, read_marker_csv, tail_frequency_hz)
-from swiftfin.errors import UserError
+from swiftfin.core.errors import UserError
 from tests.conftest import ROOT, require_shared
 
 ARC = np.array([0.0, 0.142, 0.34, 0.39, 0.42, 0.45, 0.48, 0.51, 0.58])  # marker arc positions [m]
@@ -97,7 +97,7 @@ def test_bad_marker_file(tmp_path):
 @pytest.fixture(scope="module")
 def real():
     require_shared("data", "fishsim", "markers_f1_00.csv")
-    from calibration.fishsim import load_all
+    from swiftfin.calibration.fishsim import load_all
     return load_all(ROOT)
 
 

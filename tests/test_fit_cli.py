@@ -118,9 +118,9 @@ def test_body_within_file_from_cli(tmp_path, capsys):
 
 
 def test_body_plot_shows_the_tail_tip():
-    from calibration.body import FAMILY, load
-    from calibration.engine import Calibrator
-    from calibration.report import _holdout_view, _shown_rows
+    from swiftfin.calibration.body import FAMILY, load
+    from swiftfin.calibration.engine import Calibrator
+    from swiftfin.calibration.report import _holdout_view, _shown_rows
     cal = Calibrator(FAMILY, max_effects=1).fit(load(require_shared(*FISH, "markers_f2_25.csv")))
     ctx, hold = _holdout_view(cal)
     rows = _shown_rows(cal, ctx, hold)

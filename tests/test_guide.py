@@ -9,11 +9,11 @@ import pytest
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.BRepTools import BRepTools
 
-from cad import layout as L
-from cad.guide import channel_path, guide_blocks, guide_solid, make_guides
-from swiftfin.errors import UserError
-from swiftfin.params import replace_key
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.cad.guide import channel_path, guide_blocks, guide_solid, make_guides
+from swiftfin.core.errors import UserError
+from swiftfin.core.params import replace_key
+from swiftfin.core.schema import Params
 from tests.golden_check import check_golden
 from tests.test_spool import mesh_of
 
@@ -236,10 +236,10 @@ def test_seeded_sweep_builds_or_refuses_clearly():
     single-solid spools, mounts and guides, or is refused with a UserError naming the part and a parameter."""
     import random
 
-    from cad.layout import layout_problems
-    from cad.mount import mount_numbers, mount_solid
-    from cad.spool import spool_numbers, spool_solid
-    from swiftfin.params import cross_field_problems
+    from swiftfin.layout.geometry import layout_problems
+    from swiftfin.cad.mount import mount_numbers, mount_solid
+    from swiftfin.cad.spool import spool_numbers, spool_solid
+    from swiftfin.core.params import cross_field_problems
     rng = random.Random(20261121)
     built = refused = 0
     while built + refused < 6:

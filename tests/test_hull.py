@@ -8,15 +8,15 @@ import build123d as bd
 import numpy as np
 import pytest
 
-from cad import layout as L
-from cad.fin import make_caudal_fin
-from cad.hull import (bed_rotation_deg, hull_pieces, hull_section_semi_axes_mm, make_hull_segments,
+from swiftfin.layout import geometry as L
+from swiftfin.cad.fin import make_caudal_fin
+from swiftfin.cad.hull import (bed_rotation_deg, hull_pieces, hull_section_semi_axes_mm, make_hull_segments,
                       nose_cap, piece_parts, piece_solid)
-from cad.link import joint_hardware, make_joint_links
-from swiftfin.errors import UserError
+from swiftfin.cad.link import joint_hardware, make_joint_links
+from swiftfin.core.errors import UserError
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.GeomAbs import GeomAbs_Cylinder
-from swiftfin.schema import Params
+from swiftfin.core.schema import Params
 from tests.golden_check import check_golden, precise_volume_mm3
 
 P = Params()   # the schema defaults are the default design (swiftfin.toml is generated from them)
@@ -162,7 +162,7 @@ def test_cable_passages_where_routes_cross_bulkheads(hull_parts):
 def test_flooded_segments_have_vents_top_and_bottom_and_the_head_has_none(hull_parts):
     """hull.flooded_from_joint = 1: every piece behind joint 1 has a vent through the top and the bottom of its
     shell, at the middle of its cavity on the centre line; the sealed head pieces have none there."""
-    from cad.hull import _cavity_range, flooded
+    from swiftfin.cad.hull import _cavity_range, flooded
     t, r = P.hull.wall_thickness_mm, P.hull.vent_hole_diameter_mm / 2
     n_vented = 0
     for pc in hull_pieces(P):

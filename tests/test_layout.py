@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from cad import layout as L
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.core.schema import Params
 
 
 def test_naca_half_width_formula():

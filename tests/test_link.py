@@ -10,10 +10,10 @@ import pytest
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.GeomAbs import GeomAbs_Torus
 
-from cad import layout as L
-from cad.link import joint_hardware, joint_link_problems, make_joint_links
-from swiftfin.errors import UserError
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.cad.link import joint_hardware, joint_link_problems, make_joint_links
+from swiftfin.core.errors import UserError
+from swiftfin.core.schema import Params
 from tests.golden_check import check_golden
 
 P = Params()

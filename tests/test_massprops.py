@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from build123d import Axis, Box, Cylinder, Location, Pos
 
-from cad import layout
-from cad.part import PartSpec
-from exports import massprops as mp
-from swiftfin.errors import BuildError
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as layout
+from swiftfin.cad.part import PartSpec
+from swiftfin.exports import massprops as mp
+from swiftfin.core.errors import BuildError
+from swiftfin.core.schema import Params
 
 RHO = 1240.0
 
@@ -223,7 +223,7 @@ def test_rod_inertia_closed_form():
 
 
 def test_cable_mass_is_linear_density_times_length(default_params):
-    from cad import layout
+    from swiftfin.layout import geometry as layout
     p = default_params
     cables = mp.cable_masses(p)
     length = sum(r.length_mm for r in layout.cable_routes(p)) / 1000
@@ -243,8 +243,8 @@ def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_param
     filament PrusaSlicer extrudes for it with the same [print] settings (exports/slicer.py)."""
     from tests.conftest import require_tool
     require_tool("prusa-slicer", "the printed-volume model is checked against PrusaSlicer")
-    from exports.files import export_part
-    from exports.slicer import slice_stl
+    from swiftfin.exports.files import export_part
+    from swiftfin.exports.slicer import slice_stl
     p = default_params
     pm = mp.PrintModel.from_params(p)
     rows = []
@@ -271,7 +271,7 @@ def test_ptfe_tube_mass_is_tube_section_times_channel_length_in_the_blocks(defau
     block, the length measured independently on the B-rep wire (build123d) clipped by a slab of the block's
     x range."""
     import build123d as bd
-    from cad.guide import channel_path, guide_blocks
+    from swiftfin.cad.guide import channel_path, guide_blocks
     p = default_params
     g = p.guides
     rho_l = g.ptfe_density_kg_m3 * math.pi * (g.ptfe_tube_od_mm**2 - g.ptfe_tube_id_mm**2) / 4 * 1e-6   # kg/m

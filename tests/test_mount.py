@@ -9,12 +9,12 @@ import pytest
 from build123d import Vector
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
-from cad import layout as L
-from cad.bought import pilot_hole_diameter_mm
-from cad.guide import guide_blocks
-from cad.mount import make_motor_mounts, mount_numbers, mount_solid
-from swiftfin.params import replace_key
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.cad.bought import pilot_hole_diameter_mm
+from swiftfin.cad.guide import guide_blocks
+from swiftfin.cad.mount import make_motor_mounts, mount_numbers, mount_solid
+from swiftfin.core.params import replace_key
+from swiftfin.core.schema import Params
 from tests.golden_check import check_golden
 from tests.test_spool import mesh_of
 
@@ -158,7 +158,7 @@ def test_print_orientation_puts_the_plate_on_the_bed(mounts):
 
 @pytest.fixture(scope="session")
 def drive_train(mounts):
-    from cad.bought import make_bought_parts
+    from swiftfin.cad.bought import make_bought_parts
     from tests.test_guide import default_guides
     from tests.test_spool import default_spools
     motors = [b for b in make_bought_parts(Params()) if b.label.startswith("motor_")]
@@ -168,8 +168,8 @@ def drive_train(mounts):
 def test_drive_train_parts_keep_their_clearances(drive_train):
     """The assembly's own check on spools, mounts, guides and motors: inside the hull, and every pair at least
     print.clearance_assembly_mm apart (on the meshes) except the pairs meant to touch."""
-    from cad.assembly import CONTACTS, Contact, Placed, check_assembly
-    from exports.files import tessellate
+    from swiftfin.cad.assembly import CONTACTS, Contact, Placed, check_assembly
+    from swiftfin.exports.files import tessellate
     p = Params()
     meant = (Contact("motor_mount_*", "motor_[0-9]*", "motor face screwed to its plate", 0),
              Contact("spool_*", "motor_[0-9]*", "spool on its motor's shaft (sliding fit, set screw)", 0),
@@ -187,9 +187,9 @@ def test_drive_train_parts_keep_their_clearances(drive_train):
 
 def test_a_spool_moved_into_its_guide_is_caught(drive_train):
     """The clearance test above can fail: shift spool 2 by 1 mm toward the exit guide behind it."""
-    from cad.assembly import Placed, check_assembly
-    from exports.files import tessellate
-    from swiftfin.errors import BuildError
+    from swiftfin.cad.assembly import Placed, check_assembly
+    from swiftfin.exports.files import tessellate
+    from swiftfin.core.errors import BuildError
     p = Params()
     spool = next(s for s in drive_train if s.label == "spool_2")
     guide = next(s for s in drive_train if s.label == "guide_exit_2")

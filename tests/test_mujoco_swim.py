@@ -19,12 +19,12 @@ import json
 import numpy as np
 import pytest
 
-from cad import layout
-from exports.robot import write_robot
-from physics.kinematics import relative_joint_angles_rad, wave_from_params
+from swiftfin.layout import geometry as layout
+from swiftfin.exports.robot import write_robot
+from swiftfin.physics.kinematics import relative_joint_angles_rad, wave_from_params
 
 mujoco = pytest.importorskip("mujoco", reason="MuJoCo (the mujoco package) runs the swimming model")
-from physics.swim_sim import FLUIDCOEF_DEFAULT, fluid_force_terms, load_model, swim  # noqa: E402
+from swiftfin.physics.swim_sim import FLUIDCOEF_DEFAULT, fluid_force_terms, load_model, swim  # noqa: E402
 
 pytestmark = pytest.mark.slow
 
@@ -141,7 +141,7 @@ def test_fluid_geoms(real_robot, default_params, default_parts):
     are slender (exports.robot_model.fluid_ellipsoid); the caudal fin has its own thin-plate ellipsoid on
     link_4: the fin's span, an ellipse of the fin's planform area (S = b^2 / aspect ratio, cad/fin.py)
     centred at the area centroid, and the blade's thickness."""
-    from cad.fin import planform
+    from swiftfin.cad.fin import planform
     p = default_params
     path, res = real_robot
     model = load_model(path)

@@ -7,9 +7,9 @@ import sys
 import pytest
 
 from swiftfin.cli import main
-from swiftfin.config import load_design
-from swiftfin.params import ParamError, dump_toml, params_from_dict, to_dict
-from swiftfin.schema import Params
+from swiftfin.layout.design import load_design
+from swiftfin.core.params import ParamError, dump_toml, params_from_dict, to_dict
+from swiftfin.core.schema import Params
 from tests.conftest import DEFAULT_DESIGN
 
 

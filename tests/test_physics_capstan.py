@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from physics import capstan as cp
+from swiftfin.physics import capstan as cp
 
 
 def test_tension_ratio_eq21():

@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from physics import kinematics as k
-from swiftfin.schema import Params
+from swiftfin.physics import kinematics as k
+from swiftfin.core.schema import Params
 
 
 def _wave():

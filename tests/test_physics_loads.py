@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from cad.layout import joint_stations_mm
-from physics import loads as ld
-from swiftfin.params import params_from_dict, replace_key
-from swiftfin.schema import Params
+from swiftfin.layout.geometry import joint_stations_mm
+from swiftfin.layout import loads as ld
+from swiftfin.core.params import params_from_dict, replace_key
+from swiftfin.core.schema import Params
 
 
 def test_ellipse_helpers_on_a_circle():
@@ -83,7 +83,7 @@ def test_fin_added_mass_at_rest_in_the_water_closed_form():
 def test_components_are_linear_in_their_coefficient(key, component):
     p = Params()
     a = ld.joint_loads(p).components_nm[component]
-    from swiftfin.params import get_key
+    from swiftfin.core.params import get_key
     b = ld.joint_loads(replace_key(p, key, 0.5 * get_key(p, key))).components_nm[component]
     assert b == pytest.approx(0.5 * a, rel=1e-10, abs=1e-14)
 
@@ -104,7 +104,7 @@ def test_drive_loads_hand_worked_joint1():
     z = np.zeros((n, 4))
     jl = ld.JointLoads(np.linspace(0, 1 / 3, n, endpoint=False), z, z + 1.0, z, z + 0.3)
     dl = ld.drive_loads(p, jl)
-    # joint 1 routes (cad.layout): left 65.2910 mm, 0.280016 rad of bends; right 64.8196 mm, 0.226278 rad.
+    # joint 1 routes (swiftfin.layout.geometry): left 65.2910 mm, 0.280016 rad of bends; right 64.8196 mm, 0.226278 rad.
     # stiffness ~ 1/length: left share 64.8196 / 130.1106 = 0.498188, right 0.501812.
     # T_left = 45 + (0.3 / 0.015) x 0.498188 = 54.96376 N; T_right = 45 - 20 x 0.501812 = 34.96376 N
     assert dl.tension_left_joint_n[0, 0] == pytest.approx(54.96376, abs=1e-4)

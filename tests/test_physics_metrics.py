@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from physics import efficiency as ef
-from physics import fidelity as fi
-from physics import performance as pf
-from physics import strouhal as st
+from swiftfin.physics import efficiency as ef
+from swiftfin.physics import fidelity as fi
+from swiftfin.physics import performance as pf
+from swiftfin.physics import strouhal as st
 
 
 def test_efficiency_curves_eq31_35():

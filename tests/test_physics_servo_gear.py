@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from physics import servo_gear as sg
+from swiftfin.physics import servo_gear as sg
 
 
 def test_mesh_efficiency_eq5():

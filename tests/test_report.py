@@ -5,6 +5,7 @@ from __future__ import annotations
 import base64
 import hashlib
 import io
+import functools
 import json
 import math
 import re
@@ -13,11 +14,11 @@ import shutil
 import numpy as np
 import pytest
 
-from design_rules import Finding, Severity
-from report import plots
-from report.html import SECTIONS, Progress, ReportPart, sorted_findings, write_report
-from report.render import camera_axes, cluster_decimate, corner_normals, render
-from report.render import MeshItem
+from swiftfin.design_rules import Finding, Severity
+from swiftfin.report import plots
+from swiftfin.report.html import SECTIONS, Progress, ReportPart, sorted_findings, write_report
+from swiftfin.report.render import camera_axes, cluster_decimate, corner_normals, render
+from swiftfin.report.render import MeshItem
 from tests.conftest import DEFAULT_DESIGN
 
 
@@ -172,8 +173,8 @@ def test_efficiency_curves_recompute_the_paper_and_the_models(default_params):
 
 def test_tail_beat_amplitudes_match_the_relative_joint_angles(default_params):
     """README: at 3 Hz and 0.10 m the relative joint angles peak at 20.0, 11.6, 13.1 and 33.1 deg."""
-    from cad.layout import joint_stations_mm
-    from physics.kinematics import full_step_rate, max_relative_joint_angles_rad, wave_from_params
+    from swiftfin.layout.geometry import joint_stations_mm
+    from swiftfin.physics.kinematics import full_step_rate, max_relative_joint_angles_rad, wave_from_params
 
     p = default_params
     d = plots.tail_beat(p)
@@ -226,6 +227,17 @@ def fake_mass_properties():
             "total": {**inert(0.4123), "paper_mass_kg": 1.2, "displaced_volume_m3": 4e-4, "cob_m": [-0.1, 0, 0.001],
                       "buoyancy_n": 3.924, "weight_n": 4.0447, "net_buoyancy_n": 3.924 - 4.0447,
                       "cob_above_com_m": 0.001}}
+
+
+@functools.lru_cache(maxsize=1)
+def _paper_audit() -> tuple:
+    from swiftfin.design_rules.paper_audit import audit_entries
+    return tuple(audit_entries())
+
+
+def paper_audit() -> list:
+    """The paper audit's entries, which the report is handed (it does not compute them)."""
+    return list(_paper_audit())
 
 
 def fake_findings():
@@ -286,7 +298,7 @@ def fit_dir(tmp_path):
 
 def test_page_is_self_contained_and_complete(tmp_path, default_params, fit_dir):
     path = write_report(default_params, tmp_path / "out", parts=synthetic_parts(),
-                        mass_properties=fake_mass_properties(), fit_dir=fit_dir, findings=fake_findings())
+                        mass_properties=fake_mass_properties(), fit_dir=fit_dir, findings=fake_findings(), audit=paper_audit())
     assert path == tmp_path / "out" / "report.html"
     text = path.read_text(encoding="utf-8")
     assert text.startswith("<!DOCTYPE html>")
@@ -306,7 +318,7 @@ def test_page_is_self_contained_and_complete(tmp_path, default_params, fit_dir):
 
 
 def test_failing_rules_come_first_coloured_by_verdict(tmp_path, default_params):
-    text = write_report(default_params, tmp_path, findings=fake_findings()).read_text()
+    text = write_report(default_params, tmp_path, findings=fake_findings(), audit=paper_audit()).read_text()
     rules = text[text.index('<section id="rules">'):text.index('<section id="mass">')]
     order = re.findall(r"<code>(rule_[a-z_]+)</code>", rules)
     assert order == ["rule_fail_big", "rule_fail_small", "rule_warn", "rule_pass_small", "rule_pass_big"]
@@ -316,10 +328,10 @@ def test_failing_rules_come_first_coloured_by_verdict(tmp_path, default_params):
 
 
 def test_real_rules_are_sorted_worst_first(tmp_path, default_params):
-    from design_rules import RuleContext, run_rules
+    from swiftfin.design_rules import RuleContext, run_rules
 
     found = run_rules(RuleContext(default_params))
-    text = write_report(default_params, tmp_path, findings=found).read_text()
+    text = write_report(default_params, tmp_path, findings=found, audit=paper_audit()).read_text()
     rules = text[text.index('<section id="rules">'):text.index('<section id="mass">')]
     sev = [Severity[{"pass": "PASS", "info": "INFO", "na": "NOT_EVALUATED", "warn": "WARN", "fail": "FAIL"}[c]]
            for c in re.findall(r'<tr class="row-(\w+)">', rules)]
@@ -328,20 +340,20 @@ def test_real_rules_are_sorted_worst_first(tmp_path, default_params):
 
 
 def test_missing_inputs_are_said_not_faked(tmp_path, default_params):
-    text = write_report(default_params, tmp_path, findings=fake_findings()).read_text()
+    text = write_report(default_params, tmp_path, findings=fake_findings(), audit=paper_audit()).read_text()
     assert_self_contained(text)
     assert "mass properties not computed in this build" in text.lower()
     assert "no parts were built for this report" in text.lower()
     assert "No fit given" in text
     assert len(decode_images(text)) == 3       # the plots only
     # parts without mass properties: each card says its mass was not computed
-    text = write_report(default_params, tmp_path / "b", parts=synthetic_parts(), findings=fake_findings()).read_text()
+    text = write_report(default_params, tmp_path / "b", parts=synthetic_parts(), findings=fake_findings(), audit=paper_audit()).read_text()
     assert text.count("mass not computed") == 2
     assert "Mass properties not computed in this build" in text
 
 
 def test_audit_table_lists_every_entry(tmp_path, default_params):
-    from physics.paper_audit import audit_entries
+    from swiftfin.design_rules.paper_audit import audit_entries
 
     entries = audit_entries()
     text = write_report(default_params, tmp_path, findings=fake_findings(), audit=entries).read_text()
@@ -390,9 +402,9 @@ def test_cli_reads_the_parts_from_a_build_folder(tmp_path, capsys):
     mass table comes from its mass_properties.json."""
     import build123d as bd
 
-    from cad.assembly import make_assembly
-    from cad.part import PartSpec
-    from exports.files import step_bytes
+    from swiftfin.cad.assembly import make_assembly
+    from swiftfin.cad.part import PartSpec
+    from swiftfin.exports.files import step_bytes
     from swiftfin.cli import main
 
     params = tmp_path / "design.toml"
@@ -454,7 +466,7 @@ def test_fit_section_from_a_real_fit(tmp_path, default_params):
     assert main(["fit", "joint", str(tmp_path / "run.csv"), "--out", str(tmp_path / "fit"), *design]) == 0
     rep = json.loads((tmp_path / "fit" / "fit_report.json").read_text())
     text = write_report(default_params, tmp_path / "out", fit_dir=tmp_path / "fit",
-                        findings=fake_findings()).read_text()
+                        findings=fake_findings(), audit=paper_audit()).read_text()
     fit = text[text.index('<section id="fit">'):]
     names = [e["name"] for e in rep["added_effects"]]
     assert "sensor_delay" in names
@@ -470,9 +482,9 @@ def test_fit_section_from_a_real_fit(tmp_path, default_params):
 
 def test_report_for_build_takes_the_pipeline_result(tmp_path, default_params):
     """What `swiftfin build` hands over (BuildResult of BuiltParts), plus the build's mass_properties.json."""
-    from cad.part import PartSpec
-    from exports.files import Mesh, PartExport
-    from report.html import report_for_build
+    from swiftfin.cad.part import PartSpec
+    from swiftfin.exports.files import Mesh, PartExport
+    from swiftfin.pipeline import report_for_build
     from swiftfin.pipeline import BuildResult, BuiltPart
 
     built = []

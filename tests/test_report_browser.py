@@ -24,9 +24,9 @@ import time
 import numpy as np
 import pytest
 
-from report.html import SECTIONS, write_report
+from swiftfin.report.html import SECTIONS, write_report
 from tests.conftest import require_tool
-from tests.test_report import fake_findings, fake_mass_properties, synthetic_parts
+from tests.test_report import fake_findings, fake_mass_properties, paper_audit, synthetic_parts
 
 pytestmark = pytest.mark.browser
 
@@ -171,7 +171,7 @@ def page(tmp_path_factory, default_params):
     y, x = np.mgrid[0:150, 0:300]
     Image.fromarray((np.stack([x, y, x + y], -1) % 256).astype(np.uint8)).save(fit / "before_after.png")
     return write_report(default_params, d / "out", parts=synthetic_parts(), mass_properties=fake_mass_properties(),
-                        fit_dir=fit, findings=fake_findings())
+                        fit_dir=fit, findings=fake_findings(), audit=paper_audit())
 
 
 def test_screenshot_from_the_command_line_is_not_blank(page, tmp_path):

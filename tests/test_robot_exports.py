@@ -12,10 +12,10 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from cad import layout
-from exports import massprops
-from exports.robot import write_robot
-from swiftfin.errors import BuildError
+from swiftfin.layout import geometry as layout
+from swiftfin.exports import massprops
+from swiftfin.exports.robot import write_robot
+from swiftfin.core.errors import BuildError
 from tests.robot_helpers import mini_parts
 
 

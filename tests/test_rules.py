@@ -6,13 +6,13 @@ import math
 import numpy as np
 import pytest
 
-from design_rules import RULES, MassProperties, RuleContext, Severity, run_rules, verdict
-from design_rules.findings import Finding, at_least, at_most, within
-from design_rules.rules import fit_factor, fits_bed
-from physics.kinematics import max_relative_joint_angles_rad, wave_from_params
-from swiftfin.config import load_design
-from swiftfin.params import ParamError, params_from_dict
-from swiftfin.schema import Params
+from swiftfin.design_rules import RULES, MassProperties, RuleContext, Severity, run_rules, verdict
+from swiftfin.design_rules.findings import Finding, at_least, at_most, within
+from swiftfin.design_rules.rules import fit_factor, fits_bed
+from swiftfin.physics.kinematics import max_relative_joint_angles_rad, wave_from_params
+from swiftfin.layout.design import load_design
+from swiftfin.core.params import ParamError, params_from_dict
+from swiftfin.core.schema import Params
 
 
 def _by_id(findings):
@@ -82,7 +82,7 @@ def test_default_design_verdicts(default_findings):
 
 def test_no_slack_rule_is_pretension_vs_half_the_torque_over_the_arm(default_findings):
     f = default_findings["physics.no_slack_side"]
-    from physics.loads import joint_loads
+    from swiftfin.layout.loads import joint_loads
     peak = joint_loads(Params()).peak_torque_nm.max()
     assert f.value == 45.0 and f.limit == pytest.approx(peak / (2 * 0.015))
 

@@ -6,12 +6,12 @@ import math
 import build123d as bd
 import pytest
 
-from exports.files import print_transform, stl_bytes, tessellate
-from exports.slicer import SlicerError, parse_duration_s, parse_gcode_summary, slice_stl, slicer_args
+from swiftfin.exports.files import print_transform, stl_bytes, tessellate
+from swiftfin.exports.slicer import SlicerError, parse_duration_s, parse_gcode_summary, slice_stl, slicer_args
 from swiftfin.cache import FamilyCache
-from swiftfin.params import replace_key
+from swiftfin.core.params import replace_key
 from swiftfin.pipeline import build_parts
-from swiftfin.schema import Params
+from swiftfin.core.schema import Params
 from tests.conftest import require_tool
 
 WHY = "slicing every printed part checks that the STLs print (issue 2, item 6)"

@@ -10,11 +10,11 @@ import trimesh
 from build123d import Vector
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
-from cad import layout as L
-from cad.spool import make_spools, spool_numbers, spool_solid
-from swiftfin.errors import UserError
-from swiftfin.params import replace_key
-from swiftfin.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.cad.spool import make_spools, spool_numbers, spool_solid
+from swiftfin.core.errors import UserError
+from swiftfin.core.params import replace_key
+from swiftfin.core.schema import Params
 
 from tests.golden_check import check_golden
 

@@ -12,11 +12,11 @@ from dataclasses import fields
 import numpy as np
 import pytest
 
-from cad.registry import FAMILIES, family_function
-from swiftfin.config import check_design
-from swiftfin.errors import UserError
-from swiftfin.params import ParamError, params_from_dict, to_dict
-from swiftfin.schema import SECTIONS, Params
+from swiftfin.cad.registry import FAMILIES, family_function
+from swiftfin.layout.design import check_design
+from swiftfin.core.errors import UserError
+from swiftfin.core.params import ParamError, params_from_dict, to_dict
+from swiftfin.core.schema import SECTIONS, Params
 
 SEED = 20261121
 N_BUILT = 3          # designs built in full (each builds all 36-ish parts)

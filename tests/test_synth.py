@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from calibration.joint import joint_design, rigid_joint_angle
-from calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, parse_effects, simulate_joint
+from swiftfin.calibration.joint import joint_design, rigid_joint_angle
+from swiftfin.calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, parse_effects, simulate_joint
 from swiftfin.cli import main
 from tests.conftest import DEFAULT_DESIGN
 
@@ -24,7 +24,7 @@ def ramp(v):
 
 
 def test_design_stiffness_by_hand(d, default_params):
-    from cad.layout import cable_routes
+    from swiftfin.layout.geometry import cable_routes
     L = np.mean([r.length_mm for r in cable_routes(default_params) if r.joint == 3]) / 1000
     k = 2.0e9 * math.pi * 0.001**2 / 4 / L               # E A / L of one 1 mm nylon cable, E = 2 GPa
     assert d.side_stiffness_n_m == pytest.approx(k, rel=1e-12)
@@ -38,7 +38,7 @@ def test_library_names_match_the_issue():
     assert LIBRARY_EFFECTS == ("offset", "effective_radius", "cable_compliance", "coulomb_friction",
                                "viscous_friction", "quadratic_drag", "added_mass", "backlash", "capstan_creep",
                                "sensor_delay", "lost_steps")
-    from calibration.joint import EFFECT_NAMES
+    from swiftfin.calibration.joint import EFFECT_NAMES
     assert set(EFFECT_NAMES) == set(LIBRARY_EFFECTS)
 
 
@@ -155,7 +155,7 @@ def test_cli_writes_joint_log(tmp_path, capsys):
 def test_load_cell_sees_friction_torque_and_not_a_dead_band(d):
     """The load cell reads T0 + tau / (2 d_mount): hinge friction steps it by tau_c / (2 d_mount) with the
     direction of motion; a dead band at the spool hub passes no torque (step within noise)."""
-    from calibration.joint import joint_context, tension_step_n
+    from swiftfin.calibration.joint import joint_context, tension_step_n
     tc = 0.02
     fr = simulate_joint(d, {"coulomb_friction": tc}, seed=3, duration_s=20)
     bl = simulate_joint(d, {"backlash": 0.01}, seed=3, duration_s=20)
@@ -177,9 +177,9 @@ def test_cli_bad_effect_exit_2(tmp_path, capsys):
 def test_ambiguous_slips_are_judged_by_training_rows_only(d):
     """calibration.joint.slip_events: with every row a training row, the slips near the threshold are decided by
     the measured angle and match the simulator's; with none (a held-out record), the threshold alone decides."""
-    from calibration import effects as op
-    from calibration.joint import joint_context, slip_events
-    from calibration.synth import bench_command
+    from swiftfin.calibration import effects as op
+    from swiftfin.calibration.joint import joint_context, slip_events
+    from swiftfin.calibration.synth import bench_command
     log = simulate_joint(d, {"lost_steps": 160.0}, seed=22)
     ctx = joint_context(log.t, log.motor_angle_rad, log.joint_angle_rad, d)
     _, acc = bench_command(log.t, 22)

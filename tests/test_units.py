@@ -1,10 +1,10 @@
-"""exports.units: mm <-> SI, checked by scaling (volume ~ k^3, inertia ~ k^5) and by hand-worked values."""
+"""swiftfin.core.units: mm <-> SI, checked by scaling (volume ~ k^3, inertia ~ k^5) and by hand-worked values."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from exports import units
+from swiftfin.core import units
 
 
 def test_hand_worked_values():
@@ -27,7 +27,7 @@ def test_round_trips():
 def test_scaling_of_a_solid(k):
     """A box scaled by k in mm: its SI volume scales as k^3 and its inertia (fixed density) as k^5."""
     from build123d import Box
-    from exports.massprops import solid_volume_props
+    from swiftfin.exports.massprops import solid_volume_props
     rho = 1240.0
     a = solid_volume_props(Box(30.0, 20.0, 10.0))
     b = solid_volume_props(Box(30.0 * k, 20.0 * k, 10.0 * k))

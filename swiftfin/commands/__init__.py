@@ -1,0 +1,3 @@
+
+
+DESIGN_HELP = "parameter file (default: ./swiftfin.toml if there is one, else the SwiftFin design shipped with swiftfin)"

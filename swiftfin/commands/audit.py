@@ -1,15 +1,15 @@
 """``swiftfin audit [--json FILE]``: recompute every number the paper derives from its own inputs.
 
 Prints each entry's paper value, recomputed value and whether it holds (tolerance in
-``physics.paper_audit.TOLERANCE``). Always exits 0: the audit reports on the paper, not on a design.
+``swiftfin.design_rules.paper_audit.TOLERANCE``). Always exits 0: the audit reports on the paper, not on a design.
 """
 from __future__ import annotations
 
-from physics.paper_audit import TOLERANCE, audit_entries
+from swiftfin.design_rules.paper_audit import TOLERANCE, audit_entries
 
 
-def register(sub) -> None:
-    ap = sub.add_parser("audit", help="recompute the paper's derived numbers and say which hold", description=__doc__)
+def configure(ap) -> None:
+    """Add this command's arguments to its parser (made by swiftfin.cli)."""
     ap.add_argument("--json", metavar="FILE", help="also write the entries as JSON")
     ap.set_defaults(func=run)
 

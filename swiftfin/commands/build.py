@@ -3,13 +3,13 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from swiftfin.commands import DESIGN_HELP
 
-from swiftfin.config import DEFAULT_DESIGN
 
 
-def register(sub) -> None:
-    ap = sub.add_parser("build", help="build every part (STEP, STL, 3MF), the assembly and the manifest")
-    ap.add_argument("params_file", nargs="?", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
+def configure(ap) -> None:
+    """Add this command's arguments to its parser (made by swiftfin.cli)."""
+    ap.add_argument("params_file", nargs="?", default=None, help=DESIGN_HELP)
     ap.add_argument("--out", default="build", help="output folder, replaced atomically (default: build/)")
     ap.add_argument("--cache-dir", default=None,
                     help="rebuild cache (default: $SWIFTFIN_CACHE_DIR or .cache/swiftfin/ here)")

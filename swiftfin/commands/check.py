@@ -33,18 +33,17 @@ from pathlib import Path
 
 import numpy as np
 
-from design_rules import MassProperties, RuleContext, Severity, run_rules, verdict
-from physics.loads import sensitivity_table
-from swiftfin.config import DEFAULT_DESIGN, load_design
-from swiftfin.errors import UserError
-from swiftfin.params import ParamError, Problem
+from swiftfin.design_rules import MassProperties, RuleContext, Severity, run_rules, verdict
+from swiftfin.layout.loads import sensitivity_table
+from swiftfin.layout.design import load_design
+from swiftfin.core.errors import UserError
+from swiftfin.core.params import ParamError, Problem
+from swiftfin.commands import DESIGN_HELP
 
 
-def register(sub) -> None:
-    import argparse
-    ap = sub.add_parser("check", help="apply the design rules (exit 1 if any fails)", description=__doc__,
-                        formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("params_file", nargs="?", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
+def configure(ap) -> None:
+    """Add this command's arguments to its parser (made by swiftfin.cli)."""
+    ap.add_argument("params_file", nargs="?", default=None, help=DESIGN_HELP)
     ap.add_argument("--json", metavar="FILE", help="also write the findings as JSON")
     ap.add_argument("--mass-properties", metavar="FILE", help="JSON mass properties of the built robot")
     ap.add_argument("--parts-bbox", metavar="FILE", help="JSON print-orientation bounding boxes of the built parts [mm]")

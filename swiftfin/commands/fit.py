@@ -22,18 +22,19 @@ import inspect
 import sys
 from pathlib import Path
 
-from swiftfin.config import DEFAULT_DESIGN, load_design
-from swiftfin.errors import UserError
+from swiftfin.layout.design import load_design
+from swiftfin.core.errors import UserError
+from swiftfin.commands import DESIGN_HELP
 
 
-def register(sub) -> None:
-    from calibration.engine import FAMILY_MODULES
-    ap = sub.add_parser("fit", help="fit a model family to measured data and name the effects it lacks")
+def configure(ap) -> None:
+    """Add this command's arguments to its parser (made by swiftfin.cli)."""
+    from swiftfin.calibration import FAMILY_MODULES
     ap.add_argument("family", help=f"model family: {', '.join(FAMILY_MODULES)}")
     ap.add_argument("data", nargs="+",
                     help="measured log (CSV for joint and drive; marker CSV for body). The body family also takes "
                          "several files or a folder (every markers_*.csv in it)")
-    ap.add_argument("--design", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
+    ap.add_argument("--design", default=None, help=DESIGN_HELP)
     ap.add_argument("--holdout", default=None, nargs="+",
                     help="held-out data: a fraction in (0, 1) of the run held out as contiguous time blocks "
                          "(default 0.3), or a separate run (a second log; for body one or more marker files, "
@@ -80,7 +81,7 @@ def _expand(paths: list[str], what: str) -> list[Path]:
 
 def _data_sets(fam, args) -> tuple[list[Path], list[Path], float | None]:
     """(training files, held-out files, held-out fraction) from DATA and --holdout, checked."""
-    from calibration.io import split_holdout_arg
+    from swiftfin.calibration.io import split_holdout_arg
     hold_args = args.holdout or []
     fraction = 0.3
     hold_files: list[Path] = []
@@ -114,8 +115,8 @@ def _data_sets(fam, args) -> tuple[list[Path], list[Path], float | None]:
 
 
 def run(args) -> int:
-    from calibration.engine import Calibrator, concat_contexts, get_family
-    from calibration.report import write_report
+    from swiftfin.calibration.engine import Calibrator, concat_contexts, get_family
+    from swiftfin.calibration.report import write_report
 
     try:
         fam = get_family(args.family)

@@ -3,13 +3,14 @@ from __future__ import annotations
 
 import sys
 
-from swiftfin.config import DEFAULT_DESIGN, load_design
-from swiftfin.params import dump_toml
+from swiftfin.layout.design import load_design
+from swiftfin.core.params import dump_toml
+from swiftfin.commands import DESIGN_HELP
 
 
-def register(sub) -> None:
-    ap = sub.add_parser("params", help="validate a parameter file or print the documented defaults")
-    ap.add_argument("params_file", nargs="?", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
+def configure(ap) -> None:
+    """Add this command's arguments to its parser (made by swiftfin.cli)."""
+    ap.add_argument("params_file", nargs="?", default=None, help=DESIGN_HELP)
     ap.add_argument("--dump", action="store_true", help="print the default design (the paper's SwiftFin) as TOML")
     ap.set_defaults(func=run)
 

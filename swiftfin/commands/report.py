@@ -22,8 +22,9 @@ import sys
 import time
 from pathlib import Path
 
-from swiftfin.config import DEFAULT_DESIGN, load_design
-from swiftfin.errors import UserError
+from swiftfin.layout.design import load_design
+from swiftfin.core.errors import UserError
+from swiftfin.commands import DESIGN_HELP
 
 
 # Pictures need less than the exports: 0.1 mm is about half a pixel of the 2x supersampled assembly view
@@ -32,11 +33,9 @@ PICTURE_TOLERANCE_MM = 0.1
 PICTURE_ANGULAR_TOLERANCE_DEG = 15.0
 
 
-def register(sub) -> None:
-    import argparse
-    ap = sub.add_parser("report", help="write DIR/report.html: pictures, rules, masses, plots, audit, fit",
-                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("params_file", nargs="?", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
+def configure(ap) -> None:
+    """Add this command's arguments to its parser (made by swiftfin.cli)."""
+    ap.add_argument("params_file", nargs="?", default=None, help=DESIGN_HELP)
     ap.add_argument("--out", default="build", help="build folder; report.html is written here (default: build/)")
     ap.add_argument("--fit", metavar="FITDIR", default=None,
                     help="a `swiftfin fit` output folder (fit_report.json and PNG plots) to include")
@@ -71,8 +70,8 @@ def parts_from_build_dir(out: Path, manifest: dict, p, progress) -> list:
     family / link / print facts from ``manifest.json``."""
     import build123d as bd
 
-    from exports.files import tessellate
-    from report.html import ReportPart
+    from swiftfin.exports.files import tessellate
+    from swiftfin.report.html import ReportPart
 
     progress(f"reading {out / 'assembly.step'}")
     try:
@@ -118,7 +117,7 @@ def _read_mass_properties(path: Path):
 
 
 def run(args) -> int:
-    from report.html import MASS_PROPERTIES_NAME, Progress, ReportTiming, write_report
+    from swiftfin.report.html import MASS_PROPERTIES_NAME, Progress, ReportTiming, write_report
 
     t0 = time.perf_counter()
     params_file = Path(args.params_file)
@@ -150,7 +149,7 @@ def run(args) -> int:
             note = "Skipped (--no-mass)."
         else:
             try:
-                from exports.massprops import mass_properties, report_to_dict
+                from swiftfin.exports.massprops import mass_properties, report_to_dict
             except ImportError:
                 note = "exports.massprops is not part of this installation."
             else:
@@ -162,9 +161,13 @@ def run(args) -> int:
                           for b in parts if b.spec.printed}
                 mp = report_to_dict(p, mass_properties(p, [b.spec for b in parts], meshes))
                 note = "Computed for this report (the folder held no build of this parameter file)."
+    from swiftfin.pipeline import report_findings
+
+    progress("applying the design rules and recomputing the paper audit")
+    findings, audit = report_findings(p, parts, mp)
     timing = ReportTiming()
-    path = write_report(p, out, parts=parts, mass_properties=mp, fit_dir=args.fit, progress=progress,
-                        params_name=params_file.name, mass_note=note, timing=timing)
+    path = write_report(p, out, parts=parts, mass_properties=mp, fit_dir=args.fit, findings=findings, audit=audit,
+                        progress=progress, params_name=params_file.name, mass_note=note, timing=timing)
     size = path.stat().st_size
     print(f"swiftfin report: wrote {path} ({size / 1e6:.2f} MB; pictures {timing.render_s:.1f} s, plots "
           f"{timing.plots_s:.1f} s, total {time.perf_counter() - t0:.1f} s)")

@@ -5,21 +5,22 @@ inertia, damping, drag and friction -> 12-bit encoder with noise) and the defaul
 """
 from __future__ import annotations
 
-from swiftfin.config import DEFAULT_DESIGN, load_design
-from swiftfin.errors import UserError
+from swiftfin.layout.design import load_design
+from swiftfin.core.errors import UserError
+from swiftfin.commands import DESIGN_HELP
 
 
-def register(sub) -> None:
-    from calibration.synth import EFFECT_DEFAULTS, EXTRA_EFFECTS
+def configure(ap) -> None:
+    """Add this command's arguments to its parser (made by swiftfin.cli)."""
+    from swiftfin.calibration.synth import EFFECT_DEFAULTS, EXTRA_EFFECTS
     lines = [f"{k} (default {v[0]:g} {v[1]}: {v[2]})" + (" [not in the fit library]" if k in EXTRA_EFFECTS else "")
              for k, v in EFFECT_DEFAULTS.items()]
-    ap = sub.add_parser("synth", help="simulate a measured log with chosen (undeclared) effects")
     ap.add_argument("family", choices=["joint"], help="model family to simulate (joint)")
     ap.add_argument("--effect", action="append", default=[], metavar="NAME[=VALUE]",
                     help="add an effect (repeatable): " + "; ".join(lines))
     ap.add_argument("--out", required=True, help="CSV file to write")
     ap.add_argument("--seed", type=int, default=0, help="random seed (command phases and noise)")
-    ap.add_argument("--design", default=DEFAULT_DESIGN, help="parameter file (default: swiftfin.toml)")
+    ap.add_argument("--design", default=None, help=DESIGN_HELP)
     ap.add_argument("--joint", type=int, default=None, help="tail joint simulated, 1-based (default: the last)")
     ap.add_argument("--duration", type=float, default=40.0, help="log length [s] (default 40)")
     ap.add_argument("--rate", type=float, default=1000.0, help="sample rate [Hz] (default 1000)")
@@ -30,9 +31,9 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from calibration.io import write_log
-    from calibration.joint import joint_design
-    from calibration.synth import NOISE_RAD, simulate_joint, parse_effects
+    from swiftfin.calibration.io import write_log
+    from swiftfin.calibration.joint import joint_design
+    from swiftfin.calibration.synth import NOISE_RAD, simulate_joint, parse_effects
 
     try:
         effects = parse_effects(args.effect)

@@ -14,8 +14,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from physics import capstan, efficiency, fidelity, performance, servo_gear, strouhal
-from physics.kinematics import absolute_tangent_angles_rad, joint_resolution_rad, relative_joint_angles_rad, \
+from swiftfin.physics import capstan, efficiency, fidelity, performance, servo_gear, strouhal
+from swiftfin.physics.kinematics import absolute_tangent_angles_rad, joint_resolution_rad, relative_joint_angles_rad, \
     wave_from_params
 
 TOLERANCE = "holds if |paper - recomputed| <= max(1 % of the paper's value, half a unit of its last quoted digit)"
@@ -81,7 +81,7 @@ def _e(entry_id, where, quantity, paper, recomputed, unit, reason, decimals=None
 
 def audit_entries() -> list[AuditEntry]:
     """Every audited number, in the order of the paper."""
-    from swiftfin.schema import Params   # the default design = the paper's SwiftFin (for eq. 47 and the loads)
+    from swiftfin.core.schema import Params   # the default design = the paper's SwiftFin (for eq. 47 and the loads)
 
     out: list[AuditEntry] = []
     add = out.append
@@ -255,7 +255,7 @@ def audit_entries() -> list[AuditEntry]:
            "167 km (164 km at 0.912 m/J; 8.2 km at the paper's COT; 14.8 km on the 4.5 Wh battery of Table 2)",
            holds=rng > 160))
     # ---------------------------------------------------------------- load model vs power
-    from physics.loads import joint_loads
+    from swiftfin.layout.loads import joint_loads
     jl = joint_loads(p)
     add(_e("load_model_power", "Table 2 vs physics/loads.py", "joint mechanical power at 3 Hz, A = 0.10 m, 1.97 m/s",
            P_W, jl.mean_positive_power_w, "W",

@@ -29,9 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from physics.kinematics import max_relative_joint_angles_rad, wave_from_params
-from swiftfin.params import Problem
-from swiftfin.schema import Params
+from swiftfin.physics.kinematics import max_relative_joint_angles_rad, wave_from_params
+from swiftfin.core.params import Problem
+from swiftfin.core.schema import Params
 
 
 # ----------------------------------------------------------------------------------------------- hull profile

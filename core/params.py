@@ -1,9 +1,9 @@
-"""Parameter file → validated, frozen :class:`~swiftfin.schema.Params`.
+"""Parameter file → validated, frozen :class:`~swiftfin.core.schema.Params`.
 
 Every problem in a file is collected and raised together as one :class:`ParamError` (house style rule 5):
 unknown keys with a suggestion, wrong types, values out of range, and the cross-field impossibilities that
 the schema alone can check. Geometric feasibility (parts that cannot fit in the hull) is checked by
-``cad.layout.layout_problems`` and joined to these by :func:`swiftfin.config.load_design`.
+``swiftfin.layout.geometry.layout_problems`` and joined to these by :func:`swiftfin.layout.design.load_design`.
 """
 from __future__ import annotations
 
@@ -282,7 +282,7 @@ def read_toml(path: str | Path) -> dict:
 
 
 def load_params(path: str | Path) -> Params:
-    """Schema-level validation of a parameter file (no geometry). See ``swiftfin.config.load_design``."""
+    """Schema-level validation of a parameter file (no geometry). See ``swiftfin.layout.design.load_design``."""
     return params_from_dict(read_toml(path), str(path))
 
 

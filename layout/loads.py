@@ -3,11 +3,11 @@
 Model (every coefficient in the ``[hydro]`` section of the parameter file, each overridable):
 
 * **Kinematics.** The body wave of eq. 43-46 at the design frequency and amplitude; the rigid links are the
-  chords of the wave between the nose, the joints and the fork (``physics.kinematics``, as ``cad.layout`` uses
+  chords of the wave between the nose, the joints and the fork (``physics.kinematics``, as ``swiftfin.layout.geometry`` uses
   for the joints' range). A point on a link moves with the linear interpolation of its end nodes; the link's yaw
   is phi = atan(dy/dx) of its chord. Time derivatives are spectral over one period.
 * **Link inertia** (first estimate, replaced by the built parts' mass properties through ``link_masses``):
-  each hull segment of ``cad.layout.hull_segments`` as a thin elliptical shell of the hull wall at filament
+  each hull segment of ``swiftfin.layout.geometry.hull_segments`` as a thin elliptical shell of the hull wall at filament
   density plus its two bulkheads, and the caudal fin as a solid NACA 00tt plate of span b and area b^2/AR,
   on the last link. Joint hardware, cables and any water inside the shells are not included.
 * **Added mass** (Lighthill 1960, strip theory): rho pi (h/2)^2 per unit length for a body section of height h
@@ -23,7 +23,7 @@ Model (every coefficient in the ``[hydro]`` section of the parameter file, each 
   the fin behind the joint. In the horizontal plane: gravity and the axial drag of the body are not in it.
 
 From the joint torque (``drive_loads``): the pull-pull tensions on each side (``physics.capstan.pull_pull_tensions``,
-the two sides' stiffness from their route lengths in ``cad.layout.cable_routes``), the tensions at the spool
+the two sides' stiffness from their route lengths in ``swiftfin.layout.geometry.cable_routes``), the tensions at the spool
 through the PTFE bends of the route (friction e^(+/- mu theta) against the direction the cable moves), the
 motor torque (tension difference x spool radius + rotor inertia x motor acceleration) and the step rate.
 """
@@ -34,12 +34,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from cad.layout import cable_routes, half_height_mm, hull_end_mm, hull_segments, joint_stations_mm, \
+from swiftfin.layout.geometry import cable_routes, half_height_mm, hull_end_mm, hull_segments, joint_stations_mm, \
     naca_half_width_mm
-from physics.capstan import cable_area_m2, cable_stiffness_n_m, pull_pull_tensions, tension_ratio
-from physics.kinematics import full_step_rate, periodic_derivative, wave_from_params
-from swiftfin.params import get_key, replace_key
-from swiftfin.schema import Params
+from swiftfin.physics.capstan import cable_area_m2, cable_stiffness_n_m, pull_pull_tensions, tension_ratio
+from swiftfin.physics.kinematics import full_step_rate, periodic_derivative, wave_from_params
+from swiftfin.core.params import get_key, replace_key
+from swiftfin.core.schema import Params
 
 MM = 1e-3
 

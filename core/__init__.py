@@ -1,0 +1,1 @@
+"""The foundation: the parameter file and nothing else (schema, parsing, errors, units)."""

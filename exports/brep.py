@@ -1,0 +1,176 @@
+"""The one place where B-rep solids become numbers: OpenCascade's volume properties and its tessellation.
+
+Both the exporters (STL, 3MF, link meshes) and the mass model use these functions, so that a part's exported
+mesh and the mesh its mass was checked against are the same triangles, and every B-rep volume is integrated
+the same way. The kernel (OCP) is imported inside the functions.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swiftfin.core import units
+from swiftfin.exports.inertia import Inertial, make_inertial
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """A triangle mesh in millimetres: ``vertices`` (n, 3) float64, ``faces`` (m, 3) int64, outward winding."""
+    vertices: np.ndarray
+    faces: np.ndarray
+
+    def transformed(self, matrix: np.ndarray) -> "Mesh":
+        m = np.asarray(matrix, dtype=float)
+        v = self.vertices @ m[:3, :3].T + m[:3, 3]
+        return Mesh(v, self.faces)
+
+    @property
+    def volume_mm3(self) -> float:
+        """Signed volume (divergence theorem); positive for outward winding."""
+        a, b, c = (self.vertices[self.faces[:, k]] for k in range(3))
+        return float(np.einsum("ij,ij->i", a, np.cross(b, c)).sum() / 6.0)
+
+    @property
+    def area_mm2(self) -> float:
+        a, b, c = (self.vertices[self.faces[:, k]] for k in range(3))
+        return float(np.linalg.norm(np.cross(b - a, c - a), axis=1).sum() / 2.0)
+
+    @property
+    def bbox_mm(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.vertices.min(axis=0), self.vertices.max(axis=0)
+
+
+# --------------------------------------------------------------------------------------------- tessellation
+def tessellate(shape, tolerance_mm: float, angular_tolerance_deg: float) -> Mesh:
+    """Welded triangle mesh of a build123d shape (or a TopoDS_Shape) in its own coordinates [mm]."""
+    from OCP.BRep import BRep_Tool
+    from OCP.BRepMesh import BRepMesh_IncrementalMesh
+    from OCP.BRepTools import BRepTools
+    from OCP.TopAbs import TopAbs_FACE, TopAbs_REVERSED
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopLoc import TopLoc_Location
+    from OCP.TopoDS import TopoDS
+
+    topo = getattr(shape, "wrapped", shape)
+    BRepTools.Clean_s(topo)  # forget any triangulation made with other settings: same input, same mesh
+    BRepMesh_IncrementalMesh(topo, tolerance_mm, False, math.radians(angular_tolerance_deg), False)
+    verts: list[np.ndarray] = []
+    tris: list[np.ndarray] = []
+    offset = 0
+    exp = TopExp_Explorer(topo, TopAbs_FACE)
+    while exp.More():
+        face = TopoDS.Face(exp.Current()) if hasattr(TopoDS, "Face") else TopoDS.Face_s(exp.Current())
+        loc = TopLoc_Location()
+        tri = BRep_Tool.Triangulation_s(face, loc)
+        exp.Next()
+        if tri is None:
+            continue
+        trsf = loc.Transformation()
+        n = tri.NbNodes()
+        pts = np.empty((n, 3))
+        for i in range(n):
+            q = tri.Node(i + 1).Transformed(trsf)
+            pts[i] = (q.X(), q.Y(), q.Z())
+        m = tri.NbTriangles()
+        idx = np.empty((m, 3), dtype=np.int64)
+        for i in range(m):
+            idx[i] = tri.Triangle(i + 1).Get()
+        idx -= 1
+        if face.Orientation() == TopAbs_REVERSED:
+            idx = idx[:, ::-1]
+        verts.append(pts)
+        tris.append(idx + offset)
+        offset += n
+    if not tris:
+        raise ValueError("the shape has no faces to tessellate")
+    return weld(np.concatenate(verts), np.concatenate(tris))
+
+
+def weld(vertices: np.ndarray, faces: np.ndarray, decimals: int = 7) -> Mesh:
+    """Merge coincident vertices (equal to ``decimals`` places of a mm) and drop degenerate triangles."""
+    key = np.round(vertices, decimals) + 0.0  # + 0.0 turns -0.0 into 0.0
+    uniq, inverse = np.unique(key, axis=0, return_inverse=True)
+    f = inverse.reshape(-1)[faces]
+    keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2])
+    f = f[keep]
+    used = np.unique(f)
+    remap = np.full(len(uniq), -1, dtype=np.int64)
+    remap[used] = np.arange(len(used))
+    return Mesh(uniq[used], remap[f])
+
+
+def is_closed(mesh: Mesh) -> bool:
+    """Every edge shared by exactly two triangles, in opposite directions (closed, consistently wound)."""
+    f = mesh.faces
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    directed, counts = np.unique(e, axis=0, return_counts=True)
+    if np.any(counts != 1):
+        return False
+    rev = np.unique(e[:, ::-1], axis=0)
+    return len(rev) == len(directed) and bool(np.all(rev == directed))
+
+
+# --------------------------------------------------------------------------------------------- volume properties
+@dataclass(frozen=True)
+class VolumeProps:
+    """Volume [mm^3], centroid [mm] and second moment of volume about the centroid [mm^5] (inertia / density)."""
+    volume_mm3: float
+    centroid_mm: tuple[float, float, float]
+    second_moment_mm5: tuple[tuple[float, float, float], ...]
+
+    def inertial(self, density_kg_m3: float) -> Inertial:
+        """As a uniform body of the given density, in SI."""
+        m = density_kg_m3 * units.volume_m3(self.volume_mm3)
+        return make_inertial(m, units.length_m(np.asarray(self.centroid_mm)),
+                             density_kg_m3 * units.second_moment_m5(np.asarray(self.second_moment_mm5)))
+
+
+def _props(volume, centroid, second) -> VolumeProps:
+    return VolumeProps(float(volume), tuple(float(v) for v in centroid),
+                       tuple(tuple(float(v) for v in row) for row in np.asarray(second)))
+
+
+def _wrapped(shape):
+    return shape.wrapped if hasattr(shape, "wrapped") else shape
+
+
+#: Relative accuracy asked of OpenCascade's adaptive volume integration. The fixed-order default was up to 0.5 %
+#: off on lofted parts (caudal_fin +0.49 % volume, hull_head_front_lower +0.20 %); adaptive at 1e-6 costs at most
+#: 0.7 s per part (the fin) and its reported error bound is below 1e-6 on every part of the default design.
+VOLUME_EPS = 1e-6
+
+
+def solid_volume_props(shape) -> VolumeProps:
+    """B-rep volume properties (OpenCascade, adaptive Gauss integration to :data:`VOLUME_EPS`) in mm."""
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+    g = GProp_GProps()
+    BRepGProp.VolumeProperties_s(_wrapped(shape), g, VOLUME_EPS)
+    c = g.CentreOfMass()
+    M = g.MatrixOfInertia()
+    second = [[M.Value(i, j) for j in (1, 2, 3)] for i in (1, 2, 3)]
+    return _props(g.Mass(), (c.X(), c.Y(), c.Z()), second)
+
+
+def solid_area_mm2(shape) -> float:
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+    g = GProp_GProps()
+    BRepGProp.SurfaceProperties_s(_wrapped(shape), g)
+    return float(g.Mass())
+
+
+def mesh_volume_props(mesh) -> VolumeProps:
+    """Volume properties of a closed triangle mesh (trimesh), density 1, about its centroid."""
+    mesh = mesh.copy()
+    mesh.density = 1.0
+    return _props(mesh.volume, mesh.center_mass, mesh.moment_inertia)
+
+
+def tessellate_trimesh(shape, tolerance_mm: float, angular_tolerance_deg: float):
+    """The shape as a trimesh.Trimesh (mm): the same triangles as the exported STL (:func:`tessellate`)."""
+    import trimesh
+    m = tessellate(shape, tolerance_mm, angular_tolerance_deg)
+    return trimesh.Trimesh(np.asarray(m.vertices, dtype=float), np.asarray(m.faces, dtype=np.int64), process=False)

@@ -1,0 +1,1 @@
+"""Kernel-free numbers from the parameters: stations, routes, spool dimensions, the parts' plans, loads."""
