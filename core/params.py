@@ -4,6 +4,11 @@ Every problem in a file is collected and raised together as one :class:`ParamErr
 unknown keys with a suggestion, wrong types, values out of range, and the cross-field impossibilities that
 the schema alone can check. Geometric feasibility (parts that cannot fit in the hull) is checked by
 ``swiftfin.layout.geometry.layout_problems`` and joined to these by :func:`swiftfin.layout.design.load_design`.
+
+The file is read once (:func:`read_file_bytes`: a regular file only, so a FIFO or a device never blocks) and
+parsed from those bytes (:func:`parse_toml_bytes`: UTF-8, a leading BOM allowed, nesting bounded). A key that
+fails the schema keeps its default so the later checks still run (:func:`schema_check`); what they find about,
+or because of, a failed key is left out (:func:`independent_problems`, :func:`at_range_ends`).
 """
 from __future__ import annotations
 
@@ -11,12 +16,15 @@ import dataclasses
 import difflib
 import hashlib
 import math
+import os
+import re
+import stat
 import tomllib
 from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, Iterable
 
-from .schema import SECTIONS, Component, Params
+from .schema import SECTIONS, Body, Component, Params
 
 
 @dataclass(frozen=True)
@@ -27,10 +35,16 @@ class Problem:
     expected: str
 
     def __str__(self) -> str:
-        v = "(missing)" if self.value is _MISSING else repr(self.value)
+        try:
+            v = "(missing)" if self.value is _MISSING else repr(self.value)
+        except ValueError:      # an integer past Python's digit limit for str()
+            v = f"<an integer of about {self.value.bit_length() * 0.30103:.0f} digits>"
         if len(v) > 80:
             v = v[:60] + " ... " + v[-12:]      # a whole table or list says nothing more than its start
         return f"{self.key} = {v}: {self.expected}"
+
+
+MAX_LISTED = 100   # problems printed in one message (all of them stay in ParamError.problems)
 
 
 class ParamError(ValueError):
@@ -40,7 +54,9 @@ class ParamError(ValueError):
         self.source = source
         self.problems = list(problems)
         lines = [f"{source}: {len(self.problems)} problem(s) in {what}:"]
-        lines += [f"  - {pr}" for pr in self.problems]
+        lines += [f"  - {pr}" for pr in self.problems[:MAX_LISTED]]
+        if len(self.problems) > MAX_LISTED:     # a generated or garbled file: the first ones show the pattern
+            lines.append(f"  ... and {len(self.problems) - MAX_LISTED} more")
         super().__init__("\n".join(lines))
 
 
@@ -52,6 +68,10 @@ GROOVE_WEB_MM = 0.2   # least material between neighbouring turns of the spool's
 def _suggest(name: str, options: Iterable[str]) -> str:
     close = difflib.get_close_matches(name, list(options), n=1, cutoff=0.6)
     return f" (did you mean '{close[0]}'?)" if close else ""
+
+
+def _meta(cls, name: str) -> dict:
+    return dict(next(f.metadata for f in fields(cls) if f.name == name))
 
 
 def _range_text(meta: dict) -> str:
@@ -76,7 +96,7 @@ def _check_number(key: str, value: Any, default: Any, meta: dict, out: list[Prob
         else:
             out.append(Problem(key, value, f"expected an integer in {_range_text(meta)}"))
             return None
-    if not math.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value):   # (an int is finite, however long)
         out.append(Problem(key, value, f"expected a finite number in {_range_text(meta)}"))
         return None
     lo, hi = meta.get("lo"), meta.get("hi")
@@ -125,22 +145,37 @@ def _check_value(key: str, value: Any, default: Any, meta: dict, out: list[Probl
     return _check_number(key, value, default, meta, out)
 
 
-def _build_section(cls, raw: Any, prefix: str, out: list[Problem]):
+def _build_section(cls, raw: Any, prefix: str, out: list[Problem], failed: set[str] | None = None):
+    """One section (or one component) from its table; a key that fails keeps its default and is added to
+    ``failed`` (with the key an unknown key was probably meant to be), so later checks can ignore it."""
+    failed = set() if failed is None else failed
     if not isinstance(raw, dict):
         out.append(Problem(prefix, raw, "expected a table of keys"))
+        failed.add(prefix)
         return cls()
     names = {f.name: f for f in fields(cls)}
     values = {}
     for k, v in raw.items():
         if k not in names:
             out.append(Problem(f"{prefix}.{k}", v, f"unknown key{_suggest(k, names)}"))
+            close = difflib.get_close_matches(k, list(names), n=1, cutoff=0.6)
+            if close and close[0] not in raw:
+                failed.add(f"{prefix}.{close[0]}")     # its default stands in for what was probably meant
             continue
         f = names[k]
         default = f.default
         checked = _check_value(f"{prefix}.{k}", v, default, dict(f.metadata), out)
         if checked is not None:
             values[k] = checked
+        else:
+            failed.add(f"{prefix}.{k}")
     return cls(**values)
+
+
+COMPONENT_NAME_MAX = 40
+_COMPONENT_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+COMPONENT_NAME_RULE = (f"a component name is letters, digits and underscores, starting with a letter, at most "
+                       f"{COMPONENT_NAME_MAX} characters (it becomes a part label and a file name)")
 
 
 def _build_components(raw: Any, out: list[Problem]) -> tuple:
@@ -148,16 +183,25 @@ def _build_components(raw: Any, out: list[Problem]) -> tuple:
         out.append(Problem("components", raw, "expected an array of tables [[components]]"))
         return Params().components
     comps = []
+    seen: dict[str, int] = {}   # lower-cased name -> index of its first use (some file systems ignore case)
     for i, item in enumerate(raw):
         comp = _build_section(Component, item, f"components[{i}]", out)
         if isinstance(item, dict):
             for req in ("name", "mass_kg", "size_mm", "station_fraction", "source"):
                 if req not in item:
                     out.append(Problem(f"components[{i}].{req}", _MISSING, "required for every component"))
+            name = item.get("name")
+            if isinstance(name, str):
+                if len(name) > COMPONENT_NAME_MAX or not _COMPONENT_NAME.fullmatch(name):
+                    out.append(Problem(f"components[{i}].name", name, f"not a valid name: {COMPONENT_NAME_RULE}"))
+                elif name.lower() in seen:
+                    first = seen[name.lower()]
+                    out.append(Problem(f"components[{i}].name", name,
+                                       f"duplicate name: components[{first}].name is {raw[first]['name']!r}; "
+                                       f"component names must be unique (ignoring case)"))
+                else:
+                    seen[name.lower()] = i
         comps.append(comp)
-    names = [c.name for c in comps]
-    for n in sorted({n for n in names if names.count(n) > 1}):
-        out.append(Problem("components", n, "component names must be unique"))
     return tuple(comps)
 
 
@@ -174,7 +218,7 @@ def cross_field_problems(p: Params) -> list[Problem]:
     if st and st[-1] >= p.body.hull_end_fraction:
         out.append(Problem("joints.stations_fraction", list(st),
                            f"the last joint must lie ahead of the hull end (body.hull_end_fraction = "
-                           f"{p.body.hull_end_fraction:g})"))
+                           f"{p.body.hull_end_fraction:g}, allowed {_range_text(_meta(Body, 'hull_end_fraction'))})"))
     if p.hull.flooded_from_joint > j.count + 1:
         out.append(Problem("hull.flooded_from_joint", p.hull.flooded_from_joint,
                            f"must be a joint 1..{j.count}, or {j.count + 1} for a hull sealed throughout "
@@ -246,39 +290,234 @@ def cross_field_problems(p: Params) -> list[Problem]:
     return out
 
 
-def params_from_dict(raw: dict, source: str = "<dict>") -> Params:
-    """Validate a parsed TOML mapping. Raises :class:`ParamError` with every problem."""
+# A parameter file nests at most four levels (components -> [i] -> size_mm -> [k]); anything much deeper is
+# refused before it is walked, so no check (nor repr) ever recurses into it.
+MAX_NESTING = 16
+
+
+def _too_deep(raw: Any) -> list[Problem]:
+    """Keys whose value nests more than MAX_NESTING tables or lists (found without recursion)."""
     out: list[Problem] = []
+    stack = [(raw, "", 0)]
+    while stack:
+        value, key, depth = stack.pop()
+        if depth > MAX_NESTING:
+            out.append(Problem(key or "(file)", "[...]" if isinstance(value, list) else "{...}",
+                               f"nested more than {MAX_NESTING} tables or lists deep; a parameter file needs at most 4"))
+            continue
+        if isinstance(value, dict):
+            stack += [(v, f"{key}.{k}" if key else str(k), depth + 1) for k, v in value.items()]
+        elif isinstance(value, list):
+            stack += [(v, f"{key}[{i}]", depth + 1) for i, v in enumerate(value)]
+    # one line per top-level key is enough: the rest of the same value says nothing new
+    firsts: dict[str, Problem] = {}
+    for pr in out:
+        firsts.setdefault(re.split(r"[.\[]", pr.key, maxsplit=1)[0], pr)
+    return [Problem(pr.key if len(pr.key) <= 60 else pr.key[:40] + " ... " + pr.key[-12:], pr.value, pr.expected)
+            for pr in firsts.values()]
+
+
+def _top_level_problem(name: str, value: Any, allowed: list[str]) -> Problem:
+    if isinstance(value, dict):
+        return Problem(name, "{...}", f"unknown section{_suggest(name, allowed)}")
+    owners = [s for s, cls in SECTIONS.items() if any(f.name == name for f in fields(cls))]
+    hint = (f" (did you mean '{name}' in [{owners[0]}]?)" if owners else
+            _suggest(name, allowed) or "")
+    return Problem(name, value, f"unknown top-level key{hint}: every key belongs in a section: "
+                                f"{', '.join(f'[{s}]' for s in SECTIONS)} or [[components]]")
+
+
+@dataclass(frozen=True)
+class SchemaResult:
+    """What the schema made of a parsed file: ``params`` with the default in place of every key that failed
+    (listed in ``failed``: dotted keys, or a section name when the whole section failed), and the problems."""
+    params: Params
+    problems: list[Problem]
+    failed: frozenset[str]
+    refused: bool = False   # the file as a whole (not a table, nested too deep): no later check can run
+
+
+def schema_check(raw: Any) -> SchemaResult:
+    """Check a parsed TOML mapping against the schema, collecting every problem (no cross-field checks)."""
+    out: list[Problem] = []
+    failed: set[str] = set()
+    if not isinstance(raw, dict):
+        return SchemaResult(Params(), [Problem("(file)", type(raw).__name__, "expected a table of sections")],
+                            frozenset(), refused=True)
+    deep = _too_deep(raw)
+    if deep:
+        return SchemaResult(Params(), deep, frozenset(), refused=True)
     kwargs = {}
     allowed = list(SECTIONS) + ["components"]
     for name, value in raw.items():
         if name == "components":
+            n_before = len(out)
             kwargs[name] = _build_components(value, out)
+            if len(out) > n_before:
+                failed.add("components")
         elif name in SECTIONS:
-            kwargs[name] = _build_section(SECTIONS[name], value, name, out)
+            kwargs[name] = _build_section(SECTIONS[name], value, name, out, failed)
         else:
-            out.append(Problem(name, value if not isinstance(value, dict) else "{...}",
-                               f"unknown section{_suggest(name, allowed)}"))
-    params = Params(**kwargs)
-    if not out:
-        out += cross_field_problems(params)
+            out.append(_top_level_problem(name, value, allowed))
+            close = difflib.get_close_matches(name, allowed, n=1, cutoff=0.6)
+            if close and isinstance(value, dict) and close[0] not in raw:
+                failed.add(close[0])
+    return SchemaResult(Params(**kwargs), out, frozenset(failed))
+
+
+def _mentions(text: str, key: str) -> bool:
+    """Whether ``text`` names ``key`` (or, for a whole section, any key of it)."""
+    pat = re.escape(key) + (r"(?![\w])" if "." in key else r"\.\w")
+    return re.search(r"(?<![\w.])" + pat, text) is not None
+
+
+def independent_problems(later: Iterable[Problem], failed: Iterable[str], earlier: Iterable[Problem] = ()) -> list[Problem]:
+    """The problems of a later check that stand on their own: not about a key that failed an earlier level (or
+    whose default stood in for it), not naming such a key, not repeating a key an earlier problem already names,
+    and not quoting a non-finite number (a sign the check ran on a design it cannot measure)."""
+    failed = list(failed)
+    seen = {pr.key for pr in earlier}
+    kept = []
+    for pr in later:
+        text = f"{pr.key} {pr.expected}"
+        if pr.key in seen or any(_mentions(text, f) or pr.key == f for f in failed):
+            continue
+        if seen and re.search(r"\b(nan|inf)\b", str(pr)):
+            continue
+        kept.append(pr)
+    return kept
+
+
+def at_range_ends(params: Params, failed: frozenset[str]) -> list[Params]:
+    """``params`` with every failed numeric key at the low end of its range, and at the high end."""
+    variants = []
+    for end in (0, 1):
+        p = params
+        for key in sorted(failed):
+            section, _, name = key.partition(".")
+            cls = SECTIONS.get(section)
+            f = next((f for f in fields(cls) if f.name == name), None) if cls and name else None
+            if f is None or isinstance(f.default, (bool, str, tuple)):
+                continue
+            m = f.metadata
+            ends = (min(m["choices"]), max(m["choices"])) if m.get("choices") else (m.get("lo"), m.get("hi"))
+            if ends[end] is None:
+                continue
+            p = replace_key(p, key, type(f.default)(ends[end]))
+        if p is not params:
+            variants.append(p)
+    return variants
+
+
+# Cross-field problems about these keys make the layout meaningless (it indexes the joints by them): the layout
+# checks wait until they are fixed.
+LAYOUT_PREREQUISITES = frozenset({"joints.stations_fraction", "joints.count"})
+
+
+def params_from_dict(raw: dict, source: str = "<dict>") -> Params:
+    """Validate a parsed TOML mapping. Raises :class:`ParamError` with every problem.
+
+    The cross-field checks also run when some keys failed the schema, with those keys' defaults in their place;
+    what they find about (or because of) a failed key is left out (:func:`independent_problems`)."""
+    res = schema_check(raw)
+    out = list(res.problems)
+    if not res.refused:
+        cross = cross_field_problems(res.params)
+        if res.failed and cross:        # keep what does not hang on the defaults standing in for failed keys
+            for variant in at_range_ends(res.params, res.failed):
+                keys = {pr.key for pr in cross_field_problems(variant)}
+                cross = [pr for pr in cross if pr.key in keys]
+        out += independent_problems(cross, res.failed, out)
     if out:
         raise ParamError(source, out)
-    return params
+    return res.params
+
+
+# A parameter file is a few kB; anything past this is not one (and is not read into memory to find out).
+MAX_FILE_BYTES = 16 * 2**20
+
+_FILE_KINDS = ((stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISCHR, "a character device"),
+               (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def read_file_bytes(path: str | Path, what: str = "parameter file", kind: str | None = None) -> bytes:
+    """The bytes of a regular file, read once; anything else (missing, a directory, a FIFO or device, too large,
+    unreadable) is a ParamError naming the file and what it is. Never blocks on a FIFO or reads a device.
+
+    ``what`` names the file in the messages, ``kind`` in their heading (default ``the {what}``)."""
+    path = Path(path)
+    name = str(path)
+    where = kind or f"the {what}"
+
+    def fail(expected: str) -> ParamError:
+        return ParamError(name, [Problem("(file)", name, expected)], where)
+
+    try:
+        st = os.stat(path)
+    except FileNotFoundError:
+        raise fail(f"{what} not found") from None
+    except NotADirectoryError:
+        raise fail(f"{what} not found (a folder in its path is a file)") from None
+    except (OSError, ValueError) as exc:
+        raise fail(f"cannot be read: {getattr(exc, 'strerror', None) or exc}") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise fail(f"is a directory, not a {what}")
+    if not stat.S_ISREG(st.st_mode):
+        ftype = next((k for test, k in _FILE_KINDS if test(st.st_mode)), "a special file")
+        raise fail(f"is not a regular file (it is {ftype}); give the path of a {what}")
+    if st.st_size > MAX_FILE_BYTES:
+        raise fail(f"is {st.st_size} bytes: too large for a {what} (at most {MAX_FILE_BYTES} bytes)")
+    try:
+        # O_NONBLOCK: should the path have become a FIFO since the stat, opening it must not wait for a writer
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+        with os.fdopen(fd, "rb") as fh:
+            if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+                raise fail(f"is not a regular file; give the path of a {what}")
+            data = fh.read(MAX_FILE_BYTES + 1)
+    except OSError as exc:
+        raise fail(f"cannot be read: {exc.strerror or exc}") from None
+    if len(data) > MAX_FILE_BYTES:
+        raise fail(f"too large for a {what} (more than {MAX_FILE_BYTES} bytes)")
+    return data
+
+
+def decode_text(data: bytes, source: str, what: str = "parameter file", kind: str | None = None) -> str:
+    """UTF-8 text of a file's bytes, without the byte-order mark that Excel and Notepad write at the start."""
+    kind = kind or f"the {what}"
+    if data[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        raise ParamError(source, [Problem("(file)", source, "is UTF-16 text: save it as UTF-8")], kind)
+    if b"\x00" in data:
+        raise ParamError(source, [Problem("(file)", source, f"is a binary file, not a {what} (it holds NUL bytes)")],
+                         kind)
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = data[:exc.start].count(b"\n") + 1
+        raise ParamError(source, [Problem("(file)", source,
+                                          f"is not UTF-8 text: byte 0x{data[exc.start]:02x} at line {line} "
+                                          f"(save the file as UTF-8)")], kind) from None
+    return text.removeprefix("\ufeff")
+
+
+def parse_toml_bytes(data: bytes, source: str) -> dict:
+    """Parse a parameter file's bytes (UTF-8, a leading BOM allowed); any failure is a ParamError naming it."""
+    text = decode_text(data, source)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ParamError(source, [Problem("(syntax)", str(exc), "the file is not valid TOML")]) from None
+    except ValueError as exc:           # tomllib's int(): a number past Python's digit limit
+        raise ParamError(source, [Problem("(syntax)", str(exc)[:60] + " ...",
+                                          "the file is not valid TOML: a number too long to read")]) from None
+    except RecursionError:
+        raise ParamError(source, [Problem("(syntax)", "[[[...]]]",
+                                          "the file is nested too deeply to parse (a parameter file nests at "
+                                          "most 4 tables or lists)")]) from None
 
 
 def read_toml(path: str | Path) -> dict:
-    """Read a TOML file, turning a missing file or a syntax error into a ParamError."""
-    path = Path(path)
-    if not path.is_file():
-        raise ParamError(str(path), [Problem("(file)", str(path), "parameter file not found")])
-    try:
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParamError(str(path), [Problem("(syntax)", str(exc), "the file is not valid TOML")]) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise ParamError(str(path), [Problem("(file)", str(path), f"cannot be read: {exc}")]) from None
+    """Read a TOML file once, turning a missing or unreadable file or a syntax error into a ParamError."""
+    return parse_toml_bytes(read_file_bytes(path), str(path))
 
 
 def load_params(path: str | Path) -> Params:

@@ -1,11 +1,20 @@
-"""Load a design: schema validation plus the geometric feasibility of the layout, reported together."""
+"""Load a design: schema validation plus the geometric feasibility of the layout, reported together.
+
+Every level runs on whatever passed the one before it (house style rule 5: every problem at once): the schema
+first, then the cross-field checks and the layout checks with the default standing in for each key that failed,
+leaving out what a later level finds about (or because of) a key that failed earlier.
+"""
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 from swiftfin.layout.geometry import layout_problems
 from swiftfin.layout.joints import joint_link_problems
-from swiftfin.core.params import ParamError, params_from_dict, read_toml
+from swiftfin.core.params import (
+    LAYOUT_PREREQUISITES, ParamError, Problem, at_range_ends, cross_field_problems, independent_problems,
+    parse_toml_bytes, read_file_bytes, schema_check)
 from swiftfin.core.schema import Params
 
 DEFAULT_DESIGN = "swiftfin.toml"   # the name of a design in the working folder, and of the one shipped
@@ -24,18 +33,89 @@ def default_design_path() -> Path:
     return here if here.is_file() else packaged_design_path()
 
 
+def _guarded(check: Callable[[Params], list[Problem]], params: Params, earlier: list[Problem]) -> list[Problem] | None:
+    """``check(params)``; None when it raised on a design it cannot measure and earlier problems explain why,
+    one problem naming the failed check when nothing else does (never a traceback)."""
+    try:
+        return check(params)
+    except Exception as exc:  # noqa: BLE001 - a check that cannot measure a design must not end in a traceback
+        if earlier:
+            return None
+        return [Problem(f"({check.__name__})", f"{type(exc).__name__}: {exc}",
+                        "this design cannot be laid out (the check could not measure it); change the joint "
+                        "stations or the part sizes")]
+
+
+def _layout_level(params: Params, earlier: list[Problem]) -> list[Problem] | None:
+    found = _guarded(layout_problems, params, earlier)
+    if found == []:  # the links' own room (tendon wrap, stops, flange bolts) assumes a feasible layout
+        found = _guarded(joint_link_problems, params, earlier)
+    return found
+
+
+def _later_levels(params: Params, earlier: list[Problem]) -> tuple[list[Problem], list[Problem]] | None:
+    """(cross-field, layout) problems of ``params``, None when a check raised (and ``earlier`` explains why)."""
+    cross = _guarded(cross_field_problems, params, earlier)
+    if cross is None:
+        return None
+    if any(pr.key in LAYOUT_PREREQUISITES for pr in cross):
+        return cross, []                # the layout indexes the joints by these: it waits until they are fixed
+    layout = _layout_level(params, earlier + cross)
+    return None if layout is None else (cross, layout)
+
+
+def design_problems(raw: Any) -> tuple[Params, list[Problem]]:
+    """Every problem of a parsed parameter file: schema, cross-field and layout, in that order.
+
+    Returns the params and the problems; with problems, the params hold the default in place of every key that
+    failed the schema (the design the later levels checked). What a later level finds is reported when it
+    stands on its own: not about, nor naming, a key that failed earlier
+    (:func:`swiftfin.core.params.independent_problems`), and found again with every failed number at either end
+    of its range (so it does not hang on the default that stood in for the value given).
+    """
+    res = schema_check(raw)
+    out = list(res.problems)
+    if res.refused:
+        return res.params, out
+    found = _later_levels(res.params, out)
+    if found is None:
+        return res.params, out
+    cross, layout = found
+    if res.failed and (cross or layout):
+        for variant in at_range_ends(res.params, res.failed):
+            other = _later_levels(variant, out)
+            if other is None:           # a check cannot measure the design at this end of the range: no evidence
+                continue
+            keys = {pr.key for pr in other[0] + other[1]}
+            cross = [pr for pr in cross if pr.key in keys]
+            layout = [pr for pr in layout if pr.key in keys]
+    out += independent_problems(cross, res.failed, out)
+    out += independent_problems(layout, res.failed, out)
+    return res.params, out
+
+
 def check_design(params: Params, source: str) -> Params:
     """Raise ParamError listing every geometric impossibility of a schema-valid design."""
-    problems = layout_problems(params)
-    if not problems:  # the links' own room (tendon wrap, stops, flange bolts) assumes a feasible layout
-        problems = joint_link_problems(params)
+    problems = _layout_level(params, []) or []
     if problems:
         raise ParamError(source, problems)
     return params
 
 
+def load_design_source(path: str | Path | None = None) -> tuple[Params, bytes]:
+    """Read a parameter file once; validate and check the params parsed from exactly those bytes.
+
+    Returns the params and the bytes (for the caller to hash what was parsed). Raises :class:`ParamError` with
+    every problem of the file (schema, cross-field and layout together).
+    """
+    path = default_design_path() if path is None else path
+    data = read_file_bytes(path)
+    params, problems = design_problems(parse_toml_bytes(data, str(path)))
+    if problems:
+        raise ParamError(str(path), problems)
+    return params, data
+
+
 def load_design(path: str | Path | None = None) -> Params:
     """Parse, validate and check a parameter file. Raises :class:`ParamError` with every problem."""
-    path = default_design_path() if path is None else path
-    params = params_from_dict(read_toml(path), str(path))
-    return check_design(params, str(path))
+    return load_design_source(path)[0]

@@ -25,13 +25,13 @@ Frames and conventions (used by every module of the project)
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
 from swiftfin.physics.kinematics import max_relative_joint_angles_rad, wave_from_params
 from swiftfin.core.params import Problem
-from swiftfin.core.schema import Params
+from swiftfin.core.schema import Body, Params
 
 
 # ----------------------------------------------------------------------------------------------- hull profile
@@ -371,8 +371,9 @@ def layout_problems(p: Params) -> list[Problem]:
                 room = interior_half_width_at_height_mm(p, s, z)
                 need = F / 2 + c if z == z_lo else max(d.flange_radius_mm, F / 2) + c
                 if room < need:
-                    out.append(Problem("joints.stations_fraction" if s > 0 else "motor.frame_size_mm",
-                                       list(p.joints.stations_fraction),
+                    key, value = (("joints.stations_fraction", list(p.joints.stations_fraction)) if s > 0
+                                  else ("motor.frame_size_mm", F))
+                    out.append(Problem(key, value,
                                        f"motor for joint {mp.joint + 1} does not fit in the hull: at station "
                                        f"{s:.0f} mm, height {z:.0f} mm the hull has {room:.1f} mm half-width, "
                                        f"needs {need:.1f} mm (move joint 1 aft, or use a smaller motor.frame_size_mm, "
@@ -398,7 +399,21 @@ def layout_problems(p: Params) -> list[Problem]:
         out.append(Problem("joints.stations_fraction", list(p.joints.stations_fraction),
                            "the motor row reaches into the nose cap: move joint 1 aft"))
     for seg in segs:
-        if seg.s_end_mm - seg.s_start_mm < 2 * p.hull.bulkhead_thickness_mm + 2 * p.joints.pin_diameter_mm:
+        need = 2 * p.hull.bulkhead_thickness_mm + 2 * p.joints.pin_diameter_mm
+        if seg.s_end_mm - seg.s_start_mm >= need:
+            continue
+        if seg.name == "hull_peduncle":   # the hull end, behind the last joint, is what the user moves
+            meta = next(f.metadata for f in fields(Body) if f.name == "hull_end_fraction")
+            lo, hi = meta["lo"], meta["hi"]
+            least = (seg.s_start_mm + need) / p.body.length_mm
+            fix = (f"body.hull_end_fraction must be >= {math.ceil(least * 1000) / 1000:g} (allowed [{lo:g}, {hi:g}])"
+                   if least <= hi else f"no body.hull_end_fraction in [{lo:g}, {hi:g}] leaves room")
+            out.append(Problem("body.hull_end_fraction", p.body.hull_end_fraction,
+                               f"the peduncle (hull behind the last joint, joints.stations_fraction[-1] = "
+                               f"{p.joints.stations_fraction[-1]:g}) is only {seg.s_end_mm - seg.s_start_mm:.1f} mm "
+                               f"long after the joint's gap, needs {need:.1f} mm (two bulkheads and the hinge pin): "
+                               f"{fix}, or move the last joint forward"))
+        else:
             out.append(Problem("joints.stations_fraction", list(p.joints.stations_fraction),
                                f"{seg.name} is only {seg.s_end_mm - seg.s_start_mm:.1f} mm long after the joint "
                                f"gaps: joints too close together for their range of motion"))

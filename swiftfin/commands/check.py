@@ -37,7 +37,7 @@ from swiftfin.design_rules import MassProperties, RuleContext, Severity, run_rul
 from swiftfin.layout.loads import sensitivity_table
 from swiftfin.layout.design import load_design
 from swiftfin.core.errors import UserError
-from swiftfin.core.params import ParamError, Problem
+from swiftfin.core.params import ParamError, Problem, decode_text, read_file_bytes
 from swiftfin.commands import DESIGN_HELP
 
 
@@ -51,19 +51,30 @@ def configure(ap) -> None:
     ap.set_defaults(func=run)
 
 
-def _read_json(path: str, what: str):
+MASS_PROPERTIES = ("mass properties file (JSON)", "the mass-properties file")   # (in messages, in the heading)
+BBOX = ("parts bounding-box file (JSON)", "the parts bounding-box file")
+
+
+def _read_json(path: str, side: tuple[str, str]):
+    """The JSON in a side file (MASS_PROPERTIES or BBOX); any problem is named as one in that file, not in the
+    parameter file."""
+    what, kind = side
+    text = decode_text(read_file_bytes(path, what, kind), path, what, kind)   # a directory, FIFO or device: said so
     try:
-        return json.loads(Path(path).read_text())
-    except FileNotFoundError:
-        raise ParamError(path, [Problem("(file)", path, f"{what} file not found")]) from None
-    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
-        raise ParamError(path, [Problem("(file)", path, f"{what} file is not readable JSON: {exc}")]) from None
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ParamError(path, [Problem("(file)", path, f"is not readable JSON ({exc}); expected a {what}")],
+                         kind) from None
+    except RecursionError:
+        raise ParamError(path, [Problem("(file)", path, f"is nested too deeply to read; expected a {what}")],
+                         kind) from None
 
 
 def _bboxes(path: str) -> dict:
-    raw = _read_json(path, "parts bounding-box")
+    raw = _read_json(path, BBOX)
     if not isinstance(raw, dict) or not raw:
-        raise ParamError(path, [Problem("(file)", type(raw).__name__, "expected a JSON object {label: [dx, dy, dz]}")])
+        raise ParamError(path, [Problem("(file)", type(raw).__name__, "expected a JSON object {label: [dx, dy, dz]}")],
+                         BBOX[1])
     probs, out = [], {}
     for k, v in raw.items():
         if (isinstance(v, list) and len(v) == 3 and all(isinstance(c, (int, float)) and not isinstance(c, bool)
@@ -72,7 +83,7 @@ def _bboxes(path: str) -> dict:
         else:
             probs.append(Problem(k, v, "expected three positive sizes [dx, dy, dz] in mm"))
     if probs:
-        raise ParamError(path, probs)
+        raise ParamError(path, probs, BBOX[1])
     return out
 
 
@@ -129,7 +140,7 @@ def run(args) -> int:
     params = load_design(args.params_file)
     mp = None
     if args.mass_properties:
-        mp = MassProperties.from_dict(_read_json(args.mass_properties, "mass properties"), args.mass_properties)
+        mp = MassProperties.from_dict(_read_json(args.mass_properties, MASS_PROPERTIES), args.mass_properties)
     boxes = _bboxes(args.parts_bbox) if args.parts_bbox else None
     ctx = RuleContext(params, mass_properties=mp, part_bboxes_mm=boxes)
     findings = run_rules(ctx)
