@@ -51,8 +51,10 @@ from pathlib import Path
 
 import numpy as np
 
-from swiftfin.calibration.engine import Calibrator, Context, Effect, Family, Param, concat_contexts
-from swiftfin.calibration.fishsim import MarkerData, dominant_frequency_hz, load_marker_files, load_markers
+from swiftfin.calibration.fishsim import (BEAT_RATIO_RANGE, MarkerData, dominant_frequency_hz, load_marker_files,
+                                          load_markers)
+from swiftfin.calibration.model import Context, Effect, Family, Param, concat_contexts
+from swiftfin.calibration.selection import Calibrator
 
 BODY_MARKERS = tuple(range(2, 9))
 TAIL_MARKER = 8
@@ -227,7 +229,7 @@ def _pair(prefix: str, doc: str) -> tuple[Param, Param]:
             Param(f"{prefix}2_m", "m", -1.0, 1.0, doc + " (cosine part)"))
 
 
-RATIO = Param("ratio", "-", 0.3, 2.0, "tail-beat frequency / drive frequency")
+RATIO = Param("ratio", "-", *BEAT_RATIO_RANGE, "tail-beat frequency / drive frequency")
 EXPONENT = Param("p", "-", 0.5, 14.0, "envelope exponent (paper: 2)", scale="log", grid=16)
 
 ENGINE_EFFECTS: tuple[Effect, ...] = (

@@ -38,7 +38,7 @@ from swiftfin.calibration.drive_data import (  # noqa: F401  re-exported: the dr
     LINEAR_COLUMNS, ROTARY_COLUMNS, DriveLog, InverseDynamicsData, decimate_columns, inverse_dynamics_data,
     read_drive_csv)
 from swiftfin.calibration.emps import load_emps, load_emps_pair
-from swiftfin.calibration.engine import Context, Effect, Family, Param
+from swiftfin.calibration.model import Context, Effect, Family, Param
 from swiftfin.core.errors import UserError
 
 # ------------------------------------------------------------------------------------------ effects
@@ -469,16 +469,63 @@ def load(path, design=None, notes: list | None = None, cutoff_hz: float | None =
     """Engine loader: a ``drive`` CSV, or an EMPS ``.mat`` file (``DATA_EMPS.mat``, ``DATA_EMPS_PULSES.mat``).
     ``design`` is not used (a drive log carries everything)."""
     path = Path(path)
-    if path.suffix.lower() == ".mat":
+    mat = path.suffix.lower() == ".mat"
+    if mat:
         log = load_emps(path).log
     else:
         log = read_drive_csv(path, notes)
+    tname, pname = ("t", "qm") if mat else ("time_s", "position_rad" if log.rotary else "position_m")
+    check_sample_interval(log, path, tname)
     d = inverse_dynamics_data(log, cutoff_hz, decimation)
     v = d.velocity
     if np.ptp(log.position) <= 0 or np.sum(np.diff(np.sign(v[np.abs(v) > 0.05 * np.abs(v).max()])) != 0) < 2:
-        raise UserError(f"{path}: column '{'position_rad' if log.rotary else 'position_m'}' barely moves or "
+        raise UserError(f"{path}: column '{pname}' barely moves or "
                         "never reverses: friction and inertia cannot be identified (need motion both ways)")
+    check_position_units(log, d, path, pname)
     return drive_context(d)
+
+
+#: Slowest sample rate a drive log for inverse dynamics can have: one sample per 50 ms (20 Hz). IDIM-LS
+#: differentiates the position twice after a low-pass at fs/10; EMPS logs at 1 kHz (dt 1 ms). A time column
+#: in milliseconds makes dt 1000 x too large (EMPS: 1 "s").
+DRIVE_MAX_SAMPLE_INTERVAL_S = 0.05
+#: Linear drives: largest plausible travel [m] and speed [m/s]. Ball-screw axes travel up to a few metres and
+#: move at 0.1-2 m/s (EMPS: 0.25 m, 0.13 m/s); the fastest linear-motor stages reach ~10 m/s. A position column in
+#: millimetres makes both 1000 x too large (EMPS: 246 "m", 128 "m/s"), so the mass comes out 1000 x too small.
+LINEAR_MAX_TRAVEL_M = 50.0
+LINEAR_MAX_SPEED_M_S = 20.0
+#: Rotary drives: largest plausible speed [rad/s] (~95,000 rpm, beyond almost any motor); degrees read as radians
+#: multiply it by 57.3. Travel is not bounded (a rotary axis may turn many times).
+ROTARY_MAX_SPEED_RAD_S = 1.0e4
+
+
+def check_sample_interval(log: DriveLog, path, tname: str) -> None:
+    """Refuse a drive log sampled more slowly than :data:`DRIVE_MAX_SAMPLE_INTERVAL_S` (time in ms?)."""
+    dt = float(np.median(np.diff(log.time_s)))
+    if dt > DRIVE_MAX_SAMPLE_INTERVAL_S:
+        raise UserError(f"{path}: column '{tname}': sample interval {dt:.4g} s ({1 / dt:.3g} Hz), expected at most "
+                        f"{DRIVE_MAX_SAMPLE_INTERVAL_S:g} s (inverse dynamics needs >= {1 / DRIVE_MAX_SAMPLE_INTERVAL_S:g} "
+                        f"Hz; EMPS logs at 1 kHz); likely cause: time in milliseconds (then it is {dt / 1000:.4g} s) "
+                        f"- convert to seconds")
+
+
+def check_position_units(log: DriveLog, d: InverseDynamicsData, path, pname: str) -> None:
+    """Refuse a position column whose travel or speed is implausible in its unit (millimetres in a metre column,
+    degrees in a radian column): see :data:`LINEAR_MAX_TRAVEL_M`, :data:`ROTARY_MAX_SPEED_RAD_S`."""
+    travel = float(np.ptp(log.position))
+    speed = float(np.percentile(np.abs(d.velocity), 99.5))
+    if log.rotary:
+        if speed > ROTARY_MAX_SPEED_RAD_S:
+            raise UserError(f"{path}: column '{pname}': speed {speed:.4g} rad/s, expected below "
+                            f"{ROTARY_MAX_SPEED_RAD_S:g} rad/s for a rotary drive; likely cause: the angle is in "
+                            f"degrees (then {speed * np.pi / 180:.4g} rad/s) - convert to radians")
+        return
+    if travel > LINEAR_MAX_TRAVEL_M or speed > LINEAR_MAX_SPEED_M_S:
+        raise UserError(f"{path}: column '{pname}': travel {travel:.4g} m and speed {speed:.4g} m/s, expected at "
+                        f"most {LINEAR_MAX_TRAVEL_M:g} m and {LINEAR_MAX_SPEED_M_S:g} m/s for a linear drive (EMPS: "
+                        f"0.25 m, 0.13 m/s); likely cause: the position is in millimetres (then {travel / 1000:.4g} m, "
+                        f"{speed / 1000:.4g} m/s; fitted in mm the mass would come out 1000 x too small) - "
+                        f"convert to metres")
 
 
 FAMILY = Family(

@@ -51,7 +51,7 @@ def read_drive_csv(path, notes: list | None = None) -> DriveLog:
     path = Path(path)
     header: list[str] = []
     try:
-        with path.open(newline="") as fh:
+        with path.open(newline="", encoding="utf-8-sig") as fh:
             header = [h.strip() for h in next(csv.reader(fh), [])]
     except (OSError, UnicodeDecodeError):
         pass  # read_log reports missing / unreadable files

@@ -34,7 +34,7 @@ What :func:`load_markers` does, in order (each step is counted in :attr:`MarkerD
    stay NaN and are left out of every fit. A marker with less than half of its frames valid is dropped.
 
 The drive frequency read from the file name is checked against the spectrum of the tail-tip lateral motion
-(:func:`dominant_frequency_hz`).
+(:func:`dominant_frequency_hz`), and a tail that barely moves is refused (:func:`check_motion`).
 """
 from __future__ import annotations
 
@@ -69,7 +69,11 @@ def drive_frequency_from_name(path) -> float:
     if not m:
         raise UserError(f"{path}: cannot read the drive frequency from the file name "
                         "(expected e.g. markers_f0_75.csv for 0.75 Hz)")
-    return float(f"{m.group(1)}.{m.group(2)}")
+    f = float(f"{m.group(1)}.{m.group(2)}")
+    if not f > 0:
+        raise UserError(f"{path}: the file name says a drive frequency of {f:g} Hz; expected a positive frequency "
+                        "(e.g. markers_f0_75.csv for 0.75 Hz); likely cause: a misnamed file")
+    return f
 
 
 @dataclass(frozen=True)
@@ -105,7 +109,9 @@ def read_marker_csv(path) -> np.ndarray:
     """(n_frames, 9, 2) pixel array; rejects a wrong column count or non-numbers naming the row."""
     path = Path(path)
     try:
-        lines = path.read_text().splitlines()
+        lines = path.read_text(encoding="utf-8-sig").splitlines()
+    except UnicodeDecodeError:
+        raise UserError(f"{path}: not a text CSV file") from None
     except OSError as exc:
         raise UserError(f"{path}: cannot read marker file ({exc.strerror})") from None
     rows, problems = [], []
@@ -328,7 +334,40 @@ def load_markers(path, merge_distance_m: float = 0.010, max_gap_s: float = 0.2,
             arc[m] = arc[prev] + float(np.nanmedian(dd))
     if np.isnan(arc[-1]):
         raise UserError(f"{path}: the tail-tip marker 8 could not be tracked; no body length")
-    return MarkerData(t, x, y, valid, arc, f_drive, scale, float(np.degrees(rot)), report, str(path))
+    data = MarkerData(t, x, y, valid, arc, f_drive, scale, float(np.degrees(rot)), report, str(path))
+    check_motion(data)
+    return data
+
+
+#: The tail tip must swing sideways (5th to 95th percentile of its lateral position) by at least this fraction of
+#: the body length. The fishsim videos swing 0.19-0.21 m on a 0.55-0.61 m body (a third of it); a still fish
+#: filmed with tracking noise (~1 px, ~1 mm) swings a few millimetres.
+MIN_TAIL_SWING_FRACTION = 0.02
+#: Tail-beat frequency / drive frequency the body family can represent (its ``tail_beat_frequency`` ratio bounds).
+#: The fishsim tails beat at 0.74-0.75 x the file name's frequency.
+BEAT_RATIO_RANGE = (0.3, 2.0)
+
+
+def check_motion(data: MarkerData) -> None:
+    """Refuse a video whose tail barely moves (:data:`MIN_TAIL_SWING_FRACTION`) or whose tail-beat frequency
+    contradicts the drive frequency of its file name (ratio outside :data:`BEAT_RATIO_RANGE`)."""
+    y = data.y_m[:, 8]
+    ok = np.isfinite(y)
+    swing = float(np.percentile(y[ok], 95) - np.percentile(y[ok], 5))
+    L = data.body_length_m
+    if swing < MIN_TAIL_SWING_FRACTION * L:
+        raise UserError(f"{data.source}: marker 8 (tail tip, columns x8,y8) swings {1000 * swing:.3g} mm sideways "
+                        f"(5th-95th percentile), expected at least {100 * MIN_TAIL_SWING_FRACTION:g} % of the "
+                        f"{L:.3g} m body ({1000 * MIN_TAIL_SWING_FRACTION * L:.3g} mm; fishsim: ~200 mm); likely "
+                        f"cause: the fish did not swim in this video (motor off, or a still recording): nothing to fit")
+    f_tail = tail_frequency_hz(data)
+    r = f_tail / data.drive_frequency_hz
+    lo, hi = BEAT_RATIO_RANGE
+    if not lo <= r <= hi:
+        raise UserError(f"{data.source}: the file name says a drive frequency of {data.drive_frequency_hz:g} Hz but "
+                        f"the tail tip (marker 8) beats at {f_tail:.3g} Hz, {r:.3g} x that; expected "
+                        f"{lo:g}-{hi:g} x (fishsim: 0.74-0.75 x); likely cause: a misnamed file "
+                        f"(markers_fX_YY.csv = X.YY Hz)")
 
 
 def dominant_frequency_hz(t_s, v, f_min_hz: float = 0.2, f_max_hz: float = 6.0, n: int = 6000) -> float:

@@ -4,7 +4,9 @@ A family declares the columns it needs as :class:`Column` (name with its unit su
 plausible range); :func:`read_log` reads the CSV and checks, all at once where it can:
 
 * the file exists and has a header; every required column is present (a misnamed one gets the closest name);
-* every cell parses as a number (the message names the row and the column);
+* every cell parses as a number (the message names the row and the column); no row has more cells than the
+  header (a decimal comma, ``0,5``, would shift the columns);
+* a UTF-8 byte-order mark before the header (Excel's "CSV UTF-8") is accepted;
 * time stamps are finite and strictly increasing (duplicates and steps backwards are named by row);
 * NaN gaps: a gap of at most ``max_gap_rows`` rows inside the record is filled by linear interpolation and
   reported in ``LogData.notes`` (the CLI prints them as warnings); longer gaps, or gaps at the ends, are refused
@@ -85,6 +87,31 @@ def _fmt_rows(runs: list[tuple[int, int]], limit: int = 5) -> str:
     return ", ".join(parts) + more
 
 
+def check_time(t: np.ndarray, name: str, noun: str = "row", number=_row) -> list[str]:
+    """Problems of a time column: missing (NaN) or infinite stamps, duplicates, steps backwards; empty if fine.
+    Data index i is named ``f"{noun} {number(i)}"`` (default: its spreadsheet row; a .mat file: ``sample i+1``)."""
+    t = np.asarray(t, dtype=float)
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        runs = _ranges(bad)
+        shown = ", ".join(f"{noun} {number(a)}" if a == b else f"{noun}s {number(a)}-{number(b)}" for a, b in runs[:5])
+        more = f" and {len(runs) - 5} more" if len(runs) > 5 else ""
+        return [f"column '{name}': missing time stamps at {shown}{more}"]
+    problems = []
+    dt = np.diff(t)
+    dup = np.flatnonzero(dt == 0)
+    back = np.flatnonzero(dt < 0)
+    if dup.size:
+        i = int(dup[0])
+        problems.append(f"column '{name}': duplicated time stamp {t[i]:.9g} s at {noun}s {number(i)} and "
+                        f"{number(i + 1)}" + (f" ({dup.size} duplicates)" if dup.size > 1 else ""))
+    if back.size:
+        i = int(back[0])
+        problems.append(f"column '{name}': time goes backwards at {noun} {number(i + 1)} "
+                        f"({t[i]:.9g} s -> {t[i + 1]:.9g} s)" + (f" ({back.size} times)" if back.size > 1 else ""))
+    return problems
+
+
 def read_log(path: str | Path, columns: tuple[Column, ...] | list[Column], *, max_gap_rows: int = 10,
              min_rows: int = 50, family: str = "") -> LogData:
     """Read and check a CSV log (see the module docstring). ``columns[0]`` must be the time column."""
@@ -95,7 +122,7 @@ def read_log(path: str | Path, columns: tuple[Column, ...] | list[Column], *, ma
     if path.is_dir():
         raise UserError(f"{what}{path}: is a directory, expected a CSV file")
     try:
-        with path.open(newline="") as fh:
+        with path.open(newline="", encoding="utf-8-sig") as fh:   # -sig: Excel's "CSV UTF-8" starts with a BOM
             rows = list(csv.reader(fh))
     except UnicodeDecodeError:
         raise UserError(f"{what}{path}: not a text CSV file") from None
@@ -120,6 +147,12 @@ def read_log(path: str | Path, columns: tuple[Column, ...] | list[Column], *, ma
         raise UserError(f"{what}{path}: {n} data rows, too short to identify anything (need at least {min_rows})")
     out: dict[str, np.ndarray] = {}
     problems: list[str] = []
+    long_rows = [i for i, r in enumerate(body) if len(r) > len(header) and any(c.strip() for c in r[len(header):])]
+    if long_rows:
+        i = long_rows[0]
+        problems.append(f"row {_row(i)}: {len(body[i])} cells but the header names {len(header)} columns "
+                        f"({','.join(body[i])})" + (f" ({len(long_rows)} such rows)" if len(long_rows) > 1 else "")
+                        + "; likely cause: a decimal comma (write 0.5, not 0,5) or a stray separator")
     for c in columns:
         j = header.index(c.name)
         a = np.empty(n)
@@ -149,21 +182,7 @@ def read_log(path: str | Path, columns: tuple[Column, ...] | list[Column], *, ma
     notes: list[str] = []
     tcol = columns[0]
     t = out[tcol.name]
-    nan_t = np.flatnonzero(np.isnan(t))
-    if nan_t.size:
-        problems.append(f"column '{tcol.name}': missing time stamps at {_fmt_rows(_ranges(nan_t))}")
-    else:
-        dt = np.diff(t)
-        dup = np.flatnonzero(dt == 0)
-        back = np.flatnonzero(dt < 0)
-        if dup.size:
-            i = int(dup[0])
-            problems.append(f"column '{tcol.name}': duplicated time stamp {t[i]:.9g} s at rows {_row(i)} and "
-                            f"{_row(i + 1)}" + (f" ({dup.size} duplicates)" if dup.size > 1 else ""))
-        if back.size:
-            i = int(back[0])
-            problems.append(f"column '{tcol.name}': time goes backwards at row {_row(i + 1)} "
-                            f"({t[i]:.9g} s -> {t[i + 1]:.9g} s)" + (f" ({back.size} times)" if back.size > 1 else ""))
+    problems += check_time(t, tcol.name)
     for c in columns[1:]:
         a = out[c.name]
         nan = np.flatnonzero(np.isnan(a))

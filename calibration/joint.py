@@ -51,7 +51,7 @@ import numpy as np
 
 from swiftfin.layout.geometry import cable_routes, spool_dims
 from swiftfin.calibration import effects as op
-from swiftfin.calibration.engine import Context, Effect, Family, Param
+from swiftfin.calibration.model import Context, Effect, Family, Param
 from swiftfin.calibration.io import Column, read_log
 from swiftfin.physics.capstan import cable_stiffness_n_m
 from swiftfin.physics.kinematics import joint_resolution_rad
@@ -225,6 +225,13 @@ def check_excitation(ctx: Context, path: str) -> None:
     """Refuse logs that cannot identify anything: too short, motor barely moving, or joint not following."""
     d: JointDesign = ctx.meta["design"]
     motor = ctx.signals["input"]
+    dt = float(np.median(np.diff(ctx.t)))
+    if dt > JOINT_MAX_SAMPLE_INTERVAL_S * 1.01:
+        raise UserError(f"{path}: column 'time_s': sample interval {dt:.4g} s ({1 / dt:.3g} Hz), expected at most "
+                        f"{JOINT_MAX_SAMPLE_INTERVAL_S:g} s (a joint bench logs at 10 Hz-10 kHz, 1 kHz by default; its "
+                        f"program moves at 0.37-14.3 Hz); the log spans {ctx.t[-1] - ctx.t[0]:.4g} s; likely cause: "
+                        f"time in milliseconds (then dt {dt / 1000:.4g} s over {(ctx.t[-1] - ctx.t[0]) / 1000:.4g} s) "
+                        f"- convert to seconds")
     if ctx.t[-1] - ctx.t[0] < 2.0:
         raise UserError(f"{path}: column 'time_s' spans {ctx.t[-1] - ctx.t[0]:.3g} s (rows 2-{ctx.n + 1}); "
                         f"at least 2 s of motion are needed to identify anything")
@@ -241,7 +248,17 @@ def check_excitation(ctx: Context, path: str) -> None:
                         f"are needed (friction, backlash and offsets need motion both ways)")
     rigid = ctx.base
     jy = ctx.y
+    copy = _copied_motor_column(jy, motor, rigid)
+    if copy:
+        raise UserError(f"{path}: column 'joint_angle_rad' {copy}: expected the joint angle, about "
+                        f"{d.ratio:.3g} x the motor angle (r_spool / d_mount); likely cause: the motor (command) "
+                        f"column was logged twice instead of the joint sensor - check which column was logged")
     ratio = np.ptp(jy) / max(np.ptp(rigid), 1e-300)
+    if 40.0 < 1.0 / max(ratio, 1e-300) < 80.0:
+        i = int(np.argmax(np.abs(motor)))
+        raise UserError(f"{path}: column 'motor_angle_rad' row {i + 2}: value {motor[i]:.4g}; the motor commands "
+                        f"{1 / ratio:.1f} x the joint swing the capstan predicts (57.3 = degrees per radian): the "
+                        f"motor column looks like degrees - convert it to radians")
     if 40.0 < ratio < 80.0:
         i = int(np.argmax(np.abs(jy)))
         raise UserError(f"{path}: column 'joint_angle_rad' row {i + 2}: the joint swings {ratio:.1f} x the rigid "
@@ -250,6 +267,32 @@ def check_excitation(ctx: Context, path: str) -> None:
         raise UserError(f"{path}: column 'joint_angle_rad' swings {np.ptp(jy):.3g} rad while the motor commands "
                         f"{np.ptp(rigid):.3g} rad at the joint (ratio {ratio:.2f}): wrong column, wrong design "
                         f"(--design, --joint) or a joint that does not follow its motor")
+
+
+#: Slowest sample rate a joint log can have [s]: 0.1 s (10 Hz, the lowest rate ``swiftfin synth`` writes); a bench
+#: logs at 1 kHz (dt 0.001 s). Time stamps in milliseconds make dt 1000 x too large (1 "s" at 1 kHz).
+JOINT_MAX_SAMPLE_INTERVAL_S = 0.1
+#: A joint column closer to the motor column than this fraction of its distance to the capstan prediction is a copy
+#: of the motor column (with a transmission ratio off 1 by more than :data:`COPY_RATIO_MARGIN`). On a real log the
+#: joint follows the capstan (r / d_mount x motor) within the sensor noise and effects: the ratio is near 1 / 0.
+COPY_CLOSENESS = 0.05
+COPY_RATIO_MARGIN = 0.05
+
+
+def _copied_motor_column(joint: np.ndarray, motor: np.ndarray, rigid: np.ndarray) -> str:
+    """Why ``joint`` looks like a copy of ``motor`` ("" if it does not): equal to it within 1e-9 of its swing, or
+    (when the capstan ratio differs from 1, so the two can be told apart) much closer to it than to the capstan."""
+    joint, motor = np.asarray(joint, float), np.asarray(motor, float)
+    scale = max(float(np.ptp(motor)), 1e-300)
+    if np.max(np.abs(joint - motor)) <= 1e-9 * scale:
+        return "is an exact copy of column 'motor_angle_rad'"
+    ratio = np.ptp(rigid) / scale
+    to_motor = float(np.sqrt(np.mean((joint - motor) ** 2)))
+    to_rigid = float(np.sqrt(np.mean((joint - rigid) ** 2)))
+    if abs(ratio - 1.0) > COPY_RATIO_MARGIN and to_motor < COPY_CLOSENESS * to_rigid:
+        return (f"equals column 'motor_angle_rad' within {to_motor:.3g} rad rms (it is {to_rigid:.3g} rad rms "
+                f"from the capstan prediction)")
+    return ""
 
 
 def load(path: str | Path, design: Params, joint: int | None = None, notes: list | None = None) -> Context:

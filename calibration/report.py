@@ -19,7 +19,9 @@ from pathlib import Path
 
 import numpy as np
 
-from swiftfin.calibration.engine import Calibrator, Context, _jsonable
+from swiftfin.calibration.model import Context
+from swiftfin.calibration.selection import Calibrator
+from swiftfin.core.jsonable import jsonable
 
 
 def _plt():
@@ -134,7 +136,7 @@ def plot_spectrum(cal: Calibrator, path: Path) -> None:
             continue
         f, pxx = signal.welch(r - r.mean(), fs=1.0 / dt, nperseg=min(4096, r.size // 2 or 8))
         ax[0].semilogy(f[1:], pxx[1:], color=col, lw=1, label=f"residual, {lab}")
-        from swiftfin.calibration.engine import acf
+        from swiftfin.calibration.statistics import acf
         a = acf(r, min(200, r.size // 3))
         ax[1].plot(np.arange(a.size) * dt, a, color=col, lw=1, label=lab)
     ax[0].set_xlabel("frequency [Hz]")
@@ -274,7 +276,7 @@ def write_report(cal: Calibrator, out_dir: str | Path, *, data: str = "", holdou
             plot_fingerprint(cal, j, out / name)
             files[eff.name] = name
     rep["plots"] = files
-    rep = _jsonable(rep)
+    rep = jsonable(rep)
     (out / "fit_report.json").write_text(json.dumps(rep, indent=2, allow_nan=False))
     (out / "fit_report.md").write_text(markdown(rep, files))
     return rep

@@ -4,7 +4,10 @@ Writes ``DIR/fit_report.json``, ``DIR/fit_report.md`` and PNG plots (see :mod:`c
 Bad data (missing columns, broken time stamps, long NaN gaps, degrees in a ``_rad`` column, a log too short or
 too poorly excited) exits 2 with a message naming the file, the column and the row; short NaN gaps are filled
 and reported as warnings. Bad options (unknown family, several files for a one-file family, a fraction outside
-(0, 1), an empty folder, a held-out file that is also training data, ...) exit 2 with one message.
+(0, 1), an empty folder, a held-out file that is also training data, an ``--out`` that is a file or cannot be
+written, ...) exit 2 with one message, before any fitting. Data that cannot be what they claim exit 2 as well:
+millimetres in ``position_m``, time in milliseconds, a joint column that copies the motor column, a motionless
+video, a file name whose drive frequency the tail beat contradicts (see each family's loader).
 
 Held-out data (``--holdout``): a fraction of the run held out as contiguous time blocks (default 0.3), or one
 separate run. Families that read several files (``body``: one video per drive frequency) take several files or
@@ -25,6 +28,7 @@ from pathlib import Path
 from swiftfin.layout.design import load_design
 from swiftfin.core.errors import UserError
 from swiftfin.commands import DESIGN_HELP
+from swiftfin.commands.outpath import check_output_dir
 
 
 def configure(ap) -> None:
@@ -39,7 +43,8 @@ def configure(ap) -> None:
                     help="held-out data: a fraction in (0, 1) of the run held out as contiguous time blocks "
                          "(default 0.3), or a separate run (a second log; for body one or more marker files, "
                          "left out of a DATA folder)")
-    ap.add_argument("--out", default="fit_out", help="output directory (default: fit_out)")
+    ap.add_argument("--out", default="fit_out", help="output directory (default: fit_out); checked before the fit: "
+                                                     "an existing file or an unwritable place exits 2")
     ap.add_argument("--joint", type=int, default=None,
                     help="joint family: which tail joint the log is from, 1-based (default: the last, caudal one)")
     ap.add_argument("--max-effects", type=int, default=4, help="at most this many effects are added (default 4)")
@@ -133,6 +138,7 @@ def run(args) -> int:
     if args.min_drop is not None and not 0.0 <= args.min_drop < 1.0:
         raise UserError(f"--min-drop {args.min_drop:g}: a relative drop must lie in [0, 1) (e.g. 0.05 for 5 %)")
     train_files, hold_files, fraction = _data_sets(fam, args)
+    check_output_dir(args.out)            # before the fit: a path that cannot be written fails now, not after
     design = load_design(args.design)
     notes: list[str] = []
     if fam.load_many is not None and (len(train_files) > 1 or len(hold_files) > 1):
@@ -149,7 +155,10 @@ def run(args) -> int:
                      min_relative_drop=args.min_drop)
     cal.fit(train, holdout)
     data = " ".join(str(p) for p in train_files)
-    rep = write_report(cal, args.out, data=data, notes=notes, plots=not args.no_plots)
+    try:
+        rep = write_report(cal, args.out, data=data, notes=notes, plots=not args.no_plots)
+    except OSError as exc:
+        raise UserError(f"--out {args.out}: cannot write the report ({exc.strerror or exc})") from None
     base, fin, unit = rep["baseline"], rep["final"], rep["units"]["target"]
     print(f"{args.family}: {rep['n_samples']} samples; held-out RMSE {base['rmse_holdout']:.4g} (base) -> "
           f"{fin['rmse_holdout']:.4g} {unit} (final)")

@@ -8,6 +8,7 @@ from __future__ import annotations
 from swiftfin.layout.design import load_design
 from swiftfin.core.errors import UserError
 from swiftfin.commands import DESIGN_HELP
+from swiftfin.commands.outpath import check_output_file
 
 
 def configure(ap) -> None:
@@ -46,12 +47,16 @@ def run(args) -> int:
     noise = NOISE_RAD if args.noise is None else args.noise
     if noise < 0:
         raise UserError(f"--noise {noise}: must be >= 0 rad")
+    check_output_file(args.out)           # before simulating: a folder or an unwritable place fails now
     d = joint_design(load_design(args.design), None if args.joint is None else args.joint - 1)
     log = simulate_joint(d, effects, duration_s=args.duration, rate_hz=args.rate, noise_rad=noise, seed=args.seed)
     cols = {"time_s": log.t, "motor_angle_rad": log.motor_angle_rad, "joint_angle_rad": log.joint_angle_rad}
     if not args.no_load_cell:
         cols["cable_tension_n"] = log.cable_tension_n
-    write_log(args.out, cols)
+    try:
+        write_log(args.out, cols)
+    except OSError as exc:
+        raise UserError(f"--out {args.out}: cannot write the log ({exc.strerror or exc})") from None
     desc = ", ".join(f"{k}={v:g}" for k, v in effects.items()) or "none"
     print(f"{args.out}: {log.t.size} samples, joint {d.joint + 1}, effects: {desc} ({log.integrator}"
           + (f", {log.n_slips} slips" if "lost_steps" in effects else "") + ")")
