@@ -164,6 +164,7 @@ class PartExport:
     area_mm2: float
     print_size_mm: tuple[float, float, float]
     files: dict[str, bytes]
+    volume_props: object = None     # exports.brep.VolumeProps of the B-rep (the mass model reuses it)
 
 
 def export_part(spec, p) -> PartExport:
@@ -179,4 +180,5 @@ def export_part(spec, p) -> PartExport:
         files[".stl"] = stl_bytes(pm, spec.label)
         files[".3mf"] = threemf_bytes(pm, spec.label)
         files[".step"] = step_bytes(move_shape(spec.solid, m), spec.label)
-    return PartExport(mesh, solid_volume_props(spec.solid).volume_mm3, float(spec.solid.area), size, files)
+    props = solid_volume_props(spec.solid)   # the adaptive integration, not Shape.volume's fixed rule
+    return PartExport(mesh, props.volume_mm3, float(spec.solid.area), size, files, props)

@@ -18,13 +18,14 @@ def sha256_bytes(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def make_manifest(files: list[dict], parts: list[dict], params_file: Path) -> dict:
-    """``files``: dicts with path (relative, '/'-separated), sha256 and bytes; ``parts``: one dict per part."""
+def make_manifest(files: list[dict], parts: list[dict], params_file: Path, params_sha256: str | None = None) -> dict:
+    """``files``: dicts with path (relative, '/'-separated), sha256 and bytes; ``parts``: one dict per part;
+    ``params_sha256``: the hash of the bytes the build parsed (read again from ``params_file`` when None)."""
     return {
         "tool": "swiftfin",
         "version": __version__,
         "params_file": Path(params_file).name,
-        "params_sha256": sha256_bytes(Path(params_file).read_bytes()),
+        "params_sha256": params_sha256 or sha256_bytes(Path(params_file).read_bytes()),
         "units": "mm",
         "files": sorted(files, key=lambda f: f["path"]),
         "parts": parts,

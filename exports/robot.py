@@ -86,18 +86,27 @@ def link_visual_mesh(parts, meshes: dict, origin_m, budget: int, tolerance_mm: f
     raise BuildError(f"visual mesh: cannot bring {len(parts)} parts under {budget} triangles")
 
 
-def link_meshes(params, report: massprops.MassReport, meshes: dict, parts) -> dict[str, tuple]:
-    """{file name: (vertices [m], faces)} of every link's visual and collision mesh, in the link frame."""
+def _link_mesh_pair(members, meshes: dict, origin_m, budget: int, tol_mm: float, ang_deg: float):
+    visual = link_visual_mesh(members, meshes, origin_m, budget, tol_mm, ang_deg)
+    hull = visual.convex_hull          # of the decimated mesh: a light collision hull
+    return (np.asarray(visual.vertices), np.asarray(visual.faces)), (np.asarray(hull.vertices), np.asarray(hull.faces))
+
+
+def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=None) -> dict[str, tuple]:
+    """{file name: (vertices [m], faces)} of every link's visual and collision mesh, in the link frame.
+    ``memo``: the application's store of results per link (massprops.memoized), keyed by the member parts."""
     e = params.export
     by_label = {p.label: p for p in parts}
     out = {}
     for lk in report.links:
         members = [by_label[label] for label in lk.parts if label in by_label]     # cables: no solid
-        visual = link_visual_mesh(members, meshes, lk.origin_m, e.visual_triangle_budget, e.mesh_tolerance_mm,
-                                  e.mesh_angular_tolerance_deg)
-        hull = visual.convex_hull          # of the decimated mesh: a light collision hull
-        out[visual_mesh_file(lk.name)] = (visual.vertices, visual.faces)
-        out[collision_mesh_file(lk.name)] = (hull.vertices, hull.faces)
+        extra = [list(lk.origin_m), e.visual_triangle_budget, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg]
+        visual, hull = massprops.memoized(
+            memo, "link_mesh", tuple(p.label for p in members), extra,
+            lambda members=members, lk=lk: _link_mesh_pair(members, meshes, lk.origin_m, e.visual_triangle_budget,
+                                                           e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg))
+        out[visual_mesh_file(lk.name)] = visual
+        out[collision_mesh_file(lk.name)] = hull
     return out
 
 
@@ -117,11 +126,12 @@ def check_mjcf(folder: Path, xml_name: str, robot: Robot, water_density_kg_m3: f
 
 
 def write_robot(params, parts, out_dir, meshes: dict | None = None,
-                report: massprops.MassReport | None = None) -> dict:
+                report: massprops.MassReport | None = None, memo=None, jobs: int | None = 1) -> dict:
     """Mass properties, gate, robot model and simulator files of a design. Returns a summary dict.
 
     ``parts``: the design's PartSpecs; ``meshes``: optional {label: mesh in mm} (exports.files.Mesh or trimesh),
-    the tessellations already made for the STL files (tessellated here otherwise).
+    the tessellations already made for the STL files (tessellated here otherwise); ``memo``: the application's
+    store of per-part and per-link results (:func:`swiftfin.exports.massprops.memoized`).
     """
     e = params.export
     missing = sorted(set(range(params.joints.count + 1)) - {part.link for part in parts})
@@ -133,8 +143,8 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
         if part.label not in meshes:
             meshes[part.label] = massprops.tessellate(part.solid, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg)
     if report is None:
-        report = massprops.mass_properties(params, parts, meshes)
-    checks = massprops.validate(params, report, parts, meshes)
+        report = massprops.mass_properties(params, parts, meshes, memo=memo, jobs=jobs)
+    checks = massprops.validate(params, report, parts, meshes, memo=memo)
     robot = robot_from_design(params, parts, report, ROBOT_NAME)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -142,7 +152,7 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
     tmp = Path(tempfile.mkdtemp(prefix=".robot-", dir=out_dir))
     try:
         (tmp / "meshes").mkdir()
-        for name, (v, f) in link_meshes(params, report, meshes, parts).items():
+        for name, (v, f) in link_meshes(params, report, meshes, parts, memo).items():
             (tmp / name).write_bytes(obj_bytes(v, f, f"swiftfin {name} (m, link frame)"))
         (tmp / f"{ROBOT_NAME}.urdf").write_bytes(urdf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.xml").write_bytes(mjcf_bytes(robot))

@@ -148,23 +148,40 @@ def part_mass_index(mp: dict | None) -> dict[str, dict]:
 
 
 # ----------------------------------------------------------------------------------------------- sections
-def render_pictures(parts: list[ReportPart], progress: Callable[[str], None]) -> tuple[dict, dict[str, bytes], float]:
-    """Assembly pictures ({'exterior', 'cutaway'}) and one picture per printed part; returns the seconds taken."""
+#: triangles drawn for an assembly view (the parts' meshes are clustered down to it): at 2400 x 860 supersampled
+#: pixels for 520 mm of fish, 120 000 triangles are still smaller than the pixels of the hull's curvature, and the
+#: views take a third of the time of the full ~330 000.
+ASSEMBLY_VIEW_FACES = 120_000
+
+
+def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
+                    memo=None) -> tuple[dict, dict[str, bytes], float]:
+    """Assembly pictures ({'exterior', 'cutaway'}) and one picture per printed part; returns the seconds taken.
+    ``memo(stage, labels, extra, compute)``: the application's store of pictures, keyed by the parts' content
+    (None: render every picture)."""
     from swiftfin.report.render import MeshItem, png_bytes, render
 
     t0 = time.perf_counter()
     items = {p.label: MeshItem(p.vertices, p.faces, FAMILY_COLORS.get(p.family, OTHER_COLOR), p.label) for p in parts}
+    def picture(what: list, w: int, h: int, az: float, el: float, max_faces: int = 400_000) -> bytes:
+        def draw():
+            return png_bytes(render(what, w, h, azimuth_deg=az, elevation_deg=el, max_faces=max_faces))
+        if memo is None:
+            return draw()
+        return memo("picture", tuple(it.name for it in what), [w, h, az, el, max_faces,
+                                                               [list(it.color) for it in what]], draw)
+
     out = {}
     progress("rendering the assembly (exterior)")
-    out["exterior"] = png_bytes(render(list(items.values()), 1200, 430, azimuth_deg=62, elevation_deg=22))
+    out["exterior"] = picture(list(items.values()), 1200, 430, 62, 22, ASSEMBLY_VIEW_FACES)
     progress("rendering the assembly (cut-away, upper hull halves hidden)")
     cut = [items[p.label] for p in parts if not (p.family == "hull" and p.label.endswith("_upper"))]
-    out["cutaway"] = png_bytes(render(cut, 1200, 430, azimuth_deg=58, elevation_deg=40))
+    out["cutaway"] = picture(cut, 1200, 430, 58, 40, ASSEMBLY_VIEW_FACES)
     printed = [p for p in parts if p.printed]
     pics = {}
     for k, p in enumerate(printed):
         progress(f"rendering part {k + 1}/{len(printed)}: {p.label}")
-        pics[p.label] = png_bytes(render([items[p.label]], 360, 250, azimuth_deg=62, elevation_deg=28))
+        pics[p.label] = picture([items[p.label]], 360, 250, 62, 28)
     return out, pics, time.perf_counter() - t0
 
 
@@ -516,7 +533,7 @@ class ReportTiming:
 
 def build_page(params: Params, parts=None, mass_properties: dict | None = None, fit_dir=None, *, findings,
                audit, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
-               mass_note: str = "", timing: ReportTiming | None = None) -> str:
+               mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None) -> str:
     """The report page as a string (see :func:`write_report`)."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
@@ -524,15 +541,17 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
     rparts = [as_report_part(x) for x in parts] if parts is not None else None
     pics = part_pics = None
     if rparts:
-        pics, part_pics, timing.render_s = render_pictures(rparts, progress)
+        pics, part_pics, timing.render_s = render_pictures(rparts, progress, memo)
     t0 = time.perf_counter()
     progress("plotting the efficiency curves (paper Fig. 8), one tail-beat and the body wave")
-    try:
-        hash(params)
-        plot_fn = standard_plots
-    except TypeError:   # a Params holding an unhashable value: compute without the cache
-        plot_fn = standard_plots.__wrapped__
-    eff, beat, wave = plot_fn(params)
+    if plots is None:
+        try:
+            hash(params)
+            plot_fn = standard_plots
+        except TypeError:   # a Params holding an unhashable value: compute without the cache
+            plot_fn = standard_plots.__wrapped__
+        plots = plot_fn(params)
+    eff, beat, wave = plots
     timing.plots_s = time.perf_counter() - t0
     progress("writing the page")
     body = {
@@ -572,19 +591,20 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
 def write_report(params: Params, out_dir, parts=None, mass_properties: dict | None = None, fit_dir=None, *,
                  findings, audit, progress: Callable[[str], None] | None = None,
                  params_name: str = "swiftfin.toml", mass_note: str = "",
-                 timing: ReportTiming | None = None) -> Path:
+                 timing: ReportTiming | None = None, memo=None, plots=None) -> Path:
     """Write ``out_dir/report.html`` and return its path.
 
     ``parts``: ReportParts or ``swiftfin.pipeline.BuiltPart``s (None: no pictures, the page says so);
     ``mass_properties``: the content of ``mass_properties.json`` (None: the page says it was not computed);
     ``fit_dir``: a ``swiftfin fit`` output folder; ``findings`` / ``audit``: the design rules' findings and the
-    paper audit's entries, computed by the caller (the report shows, it does not compute).
+    paper audit's entries, computed by the caller (the report shows, it does not compute); ``plots``: the
+    (efficiency, tail-beat, wave) plots of :func:`standard_plots` when the caller has them (its cache).
     The file is written to a temporary name and renamed, so a failed report never leaves half a page.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
-                      params_name=params_name, mass_note=mass_note, timing=timing)
+                      params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")

@@ -46,7 +46,7 @@ from swiftfin.core.params import get_key
 PROJECT_PACKAGES = ("swiftfin",)
 CACHE_ENV = "SWIFTFIN_CACHE_DIR"
 DEFAULT_CACHE_DIR = Path(".cache") / "swiftfin"
-FORMAT = 1  # bump when the layout of an entry changes
+FORMAT = 2  # bump when the layout of an entry changes (2: PartExport.volume_props, stage results)
 
 
 # --------------------------------------------------------------------------------------------- recording
@@ -124,9 +124,19 @@ def record_reads(params) -> tuple[RecordingParams, dict[str, Any]]:
 
 
 # --------------------------------------------------------------------------------------------- source hash
+_FILE_MEMO: dict[str, Path | None] = {}
+
+
 def _module_file(name: str) -> Path | None:
     if name.split(".")[0] not in PROJECT_PACKAGES:
         return None
+    if name in _FILE_MEMO and (_FILE_MEMO[name] is None or _FILE_MEMO[name].is_file()):
+        return _FILE_MEMO[name]
+    _FILE_MEMO[name] = _find_module_file(name)
+    return _FILE_MEMO[name]
+
+
+def _find_module_file(name: str) -> Path | None:
     try:
         spec = importlib.util.find_spec(name)
     except (ImportError, ValueError):
@@ -136,8 +146,21 @@ def _module_file(name: str) -> Path | None:
     return Path(spec.origin)
 
 
+_IMPORTS_MEMO: dict[tuple[str, str], frozenset[str]] = {}    # (module, SHA-256 of its source) -> its imports
+
+
 def _imports(name: str, path: Path) -> set[str]:
-    tree = ast.parse(path.read_text(encoding="utf-8"))
+    data = path.read_bytes()
+    memo_key = (name, hashlib.sha256(data).hexdigest())
+    if memo_key in _IMPORTS_MEMO:                              # parsing is the cost; the source decides
+        return set(_IMPORTS_MEMO[memo_key])
+    out = _parse_imports(name, path, data)
+    _IMPORTS_MEMO[memo_key] = frozenset(out)
+    return out
+
+
+def _parse_imports(name: str, path: Path, data: bytes) -> set[str]:
+    tree = ast.parse(data.decode("utf-8"))
     package = name if path.name == "__init__.py" else name.rpartition(".")[0]
     out: set[str] = set()
     for node in ast.walk(tree):
@@ -188,7 +211,8 @@ def _json_hash(obj: Any) -> str:
 
 
 class FamilyCache:
-    """Entries of one cache directory. ``lookup`` then (on a miss) ``store``."""
+    """Entries of one cache directory. ``lookup`` then (on a miss) ``store``; :meth:`memoize` does both for any
+    pure function of the parameters (the report's plots)."""
 
     def __init__(self, root: str | Path | None = None):
         self.root = Path(root) if root is not None else default_cache_dir()
@@ -234,6 +258,18 @@ class FamilyCache:
             return ekey, (d, payload)
         return None
 
+    def memoize(self, name: str, modules: tuple[str, ...], params, fn):
+        """``fn(params)``, stored under the parameter keys it reads (like a part family): a change of any
+        other parameter reuses it."""
+        skey = self.source_key(name, modules)
+        hit = self.lookup(name, skey, params)
+        if hit is not None:
+            return hit[1][1]
+        view, reads = record_reads(params)
+        out = fn(view)
+        self.store(name, skey, reads, out, {})
+        return out
+
     def store(self, family: str, skey: str, reads: dict[str, Any], payload: Any,
               breps: dict[str, bytes]) -> str:
         """Write one entry atomically and add its key-set to the family's list. Returns the entry key."""
@@ -263,6 +299,62 @@ class FamilyCache:
                 json.dump(sets, fh, indent=1)
             os.replace(tmpname, base / "keysets.json")
         return ekey
+
+
+# --------------------------------------------------------------------------------------------- later stages
+class StageCache:
+    """Results of the build's later stages (per-part mass properties and B-rep volume properties, the water
+    behind the hull end, link meshes, part pictures), each keyed only by its own inputs and its own code:
+
+        stage name + tool version + hash of the stage's modules (and what they import)
+          + the content of the parts it reads (their BREP's SHA-256) + its other inputs  ->  one pickle
+
+    under ``<cache dir>/stages/<stage>/<xx>/<key>.pkl``, written atomically. Editing the MJCF writer leaves the
+    mass properties cached; changing one part recomputes only what reads that part.
+    """
+
+    def __init__(self, root: str | Path, stage_modules: dict[str, tuple[str, ...]]):
+        self.root = Path(root) / "stages"
+        self.stage_modules = dict(stage_modules)
+        self._source: dict[str, str] = {}
+        self.hits = self.misses = 0
+
+    def _source_key(self, stage: str) -> str:
+        if stage not in self._source:
+            self._source[stage] = source_hash(*self.stage_modules[stage])
+        return self._source[stage]
+
+    def get(self, stage: str, key: Any, compute):
+        """``compute()``'s result for ``key`` (JSON-able), from the store when there."""
+        ekey = _json_hash([FORMAT, stage, __version__, self._source_key(stage), key])
+        path = self.root / stage / ekey[:2] / f"{ekey}.pkl"
+        try:
+            with path.open("rb") as fh:
+                value = pickle.load(fh)
+            self.hits += 1
+            return value
+        except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError, IndexError, TypeError):
+            pass
+        value = compute()
+        self.misses += 1
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmpname = tempfile.mkstemp(prefix=".stage.", dir=path.parent)
+            with os.fdopen(fd, "wb") as fh:
+                pickle.dump(value, fh, protocol=pickle.HIGHEST_PROTOCOL)
+            os.replace(tmpname, path)
+        except OSError:
+            pass        # a cache that cannot be written is only slower
+        return value
+
+    def memo(self, part_keys: dict[str, str]):
+        """The ``memo(stage, labels, extra, compute)`` the export and report layers take: keyed by the named
+        parts' content (``part_keys``: label -> SHA-256 of its BREP) and ``extra``."""
+        def memo(stage: str, labels: tuple[str, ...], extra, compute):
+            if any(label not in part_keys for label in labels):
+                return compute()            # a part this build did not make: no content key to file it under
+            return self.get(stage, [[part_keys[label] for label in labels], extra], compute)
+        return memo
 
 
 # --------------------------------------------------------------------------------------------- BREP

@@ -9,7 +9,8 @@
 3. check the assembly (cad/assembly.py: clearances over the range of motion, contacts, inside the hull);
 4. write ``parts/<label>.{step,stl,3mf}``, ``assembly.step`` (every part at rest, product names = labels)
    and ``manifest.json`` into a temporary folder beside ``out_dir`` and move it into place at the end, so an
-   interrupted or failed build never leaves a half-written ``out_dir`` (nor a temporary folder).
+   interrupted or failed build never leaves a half-written ``out_dir``; ``out_dir`` is replaced only when it
+   holds a previous build and nothing else (swiftfin/outdir.py).
 """
 from __future__ import annotations
 
@@ -19,7 +20,6 @@ import os
 import re
 import shutil
 import sys
-import tempfile
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,8 +28,8 @@ from typing import Callable
 from swiftfin.cad.part import PartSpec
 from swiftfin.cad.registry import FAMILIES, family_function
 from swiftfin.exports.manifest import MANIFEST_NAME, make_manifest, manifest_text, sha256_bytes
+from swiftfin import outdir
 from swiftfin.cache import FamilyCache, brep_roundtrip, record_reads, shape_from_brep
-from swiftfin.layout.design import load_design
 from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
 
@@ -43,6 +43,7 @@ class BuiltPart:
     export: object              # exports.files.PartExport
     time_s: float
     cached: bool
+    content_sha256: str = ""    # of the part's BREP and spec: what the later stages' cache keys read
 
 
 @dataclass
@@ -92,7 +93,56 @@ def _check_bed(spec: PartSpec, size, p: Params) -> None:
 
 def family_modules(name: str) -> tuple[str, ...]:
     """Source modules a family's cached output depends on (their imports are followed by the cache)."""
-    return (FAMILIES[name].split(":")[0], "exports.files", "cad.part", "swiftfin.pipeline")
+    return (FAMILIES[name].split(":")[0], "swiftfin.exports.files", "swiftfin.cad.part", "swiftfin.cache")
+
+
+def _content_key(spec: PartSpec, brep: bytes) -> str:
+    """SHA-256 of a part's BREP text and its spec (label, link, family, printed, print rotation, catalogue
+    mass): the identity of a part for the later stages' cache (StageCache)."""
+    fields = {f.name: getattr(spec, f.name) for f in dataclasses.fields(PartSpec) if f.name not in ("solid", "meta")}
+    return sha256_bytes(brep + b"\0" + json.dumps(fields, sort_keys=True, default=list).encode())
+
+
+#: the code each later stage's cached results depend on (StageCache): their modules and what they import
+STAGE_MODULES: dict[str, tuple[str, ...]] = {
+    "solid_props": ("swiftfin.exports.brep",),
+    "part_mass": ("swiftfin.exports.massprops",),
+    "outside_piece": ("swiftfin.exports.massprops",),
+    "link_mesh": ("swiftfin.exports.robot",),
+    "picture": ("swiftfin.report.render", "swiftfin.report.html"),
+}
+
+
+def build_jobs() -> int:
+    """Processes for the per-part work of a build: ``$SWIFTFIN_JOBS``, or one per core."""
+    raw = os.environ.get("SWIFTFIN_JOBS", "")
+    if raw.strip():
+        try:
+            n = int(raw)
+        except ValueError:
+            raise UserError(f"SWIFTFIN_JOBS = {raw!r}: expected a whole number of processes >= 1") from None
+        if n < 1:
+            raise UserError(f"SWIFTFIN_JOBS = {raw!r}: expected a whole number of processes >= 1")
+        return n
+    return os.cpu_count() or 1
+
+
+def stage_memo(result: "BuildResult", cache: FamilyCache | None):
+    """The memo the export and report layers use for per-part work: the B-rep volume properties the export
+    already integrated, and (with a cache) every stage's stored results (StageCache)."""
+    from swiftfin.cache import StageCache
+
+    stored = None
+    if cache is not None:
+        stored = StageCache(cache.root, STAGE_MODULES).memo({b.spec.label: b.content_sha256 for b in result.parts})
+    known = {b.spec.label: b.export.volume_props for b in result.parts
+             if getattr(b.export, "volume_props", None) is not None}
+
+    def memo(stage: str, labels: tuple[str, ...], extra, compute):
+        if stage == "solid_props" and len(labels) == 1 and labels[0] in known:
+            return known[labels[0]]        # same solid, same integration: the export's
+        return compute() if stored is None else stored(stage, labels, extra, compute)
+    return memo
 
 
 def run_family(name: str, p: Params, cache: FamilyCache | None) -> tuple[list[BuiltPart], float]:
@@ -108,9 +158,9 @@ def run_family(name: str, p: Params, cache: FamilyCache | None) -> tuple[list[Bu
             _, (folder, payload) = hit
             out = []
             for item in payload:
-                spec = PartSpec(solid=shape_from_brep(folder / f"{item['label']}.brep", item["label"]),
-                                **item["spec"])
-                out.append(BuiltPart(spec, item["export"], 0.0, True))
+                brep = folder / f"{item['label']}.brep"
+                spec = PartSpec(solid=shape_from_brep(brep, item["label"]), **item["spec"])
+                out.append(BuiltPart(spec, item["export"], 0.0, True, _content_key(spec, brep.read_bytes())))
             dt = time.perf_counter() - t0
             for b in out:
                 b.time_s = dt / max(len(out), 1)
@@ -134,7 +184,8 @@ def run_family(name: str, p: Params, cache: FamilyCache | None) -> tuple[list[Bu
         t1 = time.perf_counter()
         exp = export_part(spec, view)
         _check_bed(spec, exp.print_size_mm, p)
-        out.append(BuiltPart(spec, exp, t_family / max(len(specs), 1) + time.perf_counter() - t1, False))
+        out.append(BuiltPart(spec, exp, t_family / max(len(specs), 1) + time.perf_counter() - t1, False,
+                             _content_key(spec, breps[spec.label])))
     if cache is not None:
         payload = [{"label": b.spec.label,
                     "spec": {f.name: getattr(b.spec, f.name) for f in dataclasses.fields(PartSpec)
@@ -185,7 +236,8 @@ def assembly_step(result: BuildResult) -> bytes:
 
 
 def write_outputs(result: BuildResult, folder: Path, params_file: Path,
-                  progress: Callable[[str], None] | None = None) -> dict:
+                  progress: Callable[[str], None] | None = None, params_sha256: str | None = None,
+                  cache: FamilyCache | None = None) -> dict:
     """Write every file of the build into ``folder`` (which exists and is empty): the parts, the assembly, the
     robot for the simulators with ``mass_properties.json`` (exports.robot) and ``report.html``. Returns the
     manifest, which lists them all."""
@@ -208,24 +260,31 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
     data = assembly_step(result)
     (folder / "assembly.step").write_bytes(data)
     files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
-    files += write_robot_and_report(result, folder, params_file, progress)
-    manifest = make_manifest(files, parts, params_file)
+    files += write_robot_and_report(result, folder, params_file, progress, cache)
+    manifest = make_manifest(files, parts, params_file, params_sha256)
     (folder / MANIFEST_NAME).write_text(manifest_text(manifest))
     return manifest
 
 
 def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
-                           progress: Callable[[str], None] | None = None) -> list[dict]:
+                           progress: Callable[[str], None] | None = None,
+                           cache: FamilyCache | None = None) -> list[dict]:
     """Mass properties with their validation gate, the simulator files (exports.robot) and report.html, into
     ``folder``; returns their manifest entries. BuildError names the part or link that fails the gate."""
     from swiftfin.exports.robot import write_robot
     if progress:
         progress("  mass properties, validation gate and simulator files ...")
+    memo = stage_memo(result, cache)
     robot = write_robot(result.params, [b.spec for b in result.parts], folder,
-                        meshes={b.spec.label: b.export.mesh for b in result.parts})
+                        meshes={b.spec.label: b.export.mesh for b in result.parts}, memo=memo, jobs=build_jobs())
     if progress:
         progress("  design report ...")
-    report_for_build(result, folder, params_file.name, progress=progress)
+    plots = None
+    if cache is not None:
+        from swiftfin.report.html import standard_plots
+
+        plots = cache.memoize("report-plots", ("swiftfin.report.plots",), result.params, standard_plots.__wrapped__)
+    report_for_build(result, folder, params_file.name, progress=progress, memo=memo, plots=plots)
     entries = []
     for rel in sorted(robot["files"]) + ["report.html"]:
         data = (folder / rel).read_bytes()
@@ -233,47 +292,29 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
     return entries
 
 
-def _swap_into_place(tmp: Path, out: Path) -> None:
-    """Move the finished folder to ``out``; an old ``out`` is replaced (kept until the new one is in place)."""
-    if out.exists() or out.is_symlink():
-        if not out.is_dir():
-            raise UserError(f"{out} exists and is not a folder; choose another --out")
-        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old-", dir=out.parent))
-        os.rename(out, old / out.name)
-        try:
-            os.rename(tmp, out)
-        except OSError:
-            os.rename(old / out.name, out)  # put the old build back
-            raise
-        shutil.rmtree(old, ignore_errors=True)
-    else:
-        os.rename(tmp, out)
-
-
 def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | None = None,
           progress: Callable[[str], None] | None = None) -> BuildResult:
-    """Build the design in ``params_file`` into ``out_dir`` (see the module docstring)."""
+    """Build the design in ``params_file`` into ``out_dir`` (see the module docstring and swiftfin/outdir.py).
+
+    The parameter file is read once: the parts are made from, and the manifest hashes, the bytes parsed.
+    ``out_dir`` is checked before any work and replaced only if it holds a previous build and nothing else.
+    """
+    from swiftfin.layout.design import load_design_source
+
     params_file = Path(params_file)
-    p = load_design(params_file)  # ParamError -> exit 2, nothing written
+    p, raw = load_design_source(params_file)  # ParamError -> exit 2, nothing written
     out = Path(out_dir)
+    keep = (params_file,)
+    outdir.check_out_dir(out, keep)
+    outdir.remove_stale_temp_dirs(out)
+    tmp = outdir.make_temp_dir(out)
     try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise UserError(f"cannot create the output folder's parent {out.parent}: {exc}") from None
-    result = build_parts(p, cache, progress)
-    if progress:
-        progress("  checking the assembly over the joints' range of motion ...")
-    check_built(result, cache, progress)
-    try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.tmp-", dir=out.parent))
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o777 & ~umask)  # mkdtemp makes it private; the build folder is an ordinary folder
-    except OSError as exc:
-        raise UserError(f"cannot write beside {out}: {exc}") from None
-    try:
-        write_outputs(result, tmp, params_file, progress)
-        _swap_into_place(tmp, out)
+        result = build_parts(p, cache, progress)
+        if progress:
+            progress("  checking the assembly over the joints' range of motion ...")
+        check_built(result, cache, progress)
+        write_outputs(result, tmp, params_file, progress, params_sha256=sha256_bytes(raw), cache=cache)
+        outdir.swap_into_place(tmp, out, keep)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
@@ -319,7 +360,8 @@ def report_findings(params: Params, parts, mass_properties: dict | None) -> tupl
 
 
 def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
-                     progress: Callable[[str], None] | None = None, fit_dir=None) -> Path:
+                     progress: Callable[[str], None] | None = None, fit_dir=None, memo=None,
+                     plots=None) -> Path:
     """The report of a finished ``swiftfin.pipeline.build`` (``result``: its BuildResult) into its folder: the
     parts as built, the mass table from ``out_dir/mass_properties.json`` when the build wrote one. For
     ``swiftfin build`` to call after the files are in place."""
@@ -335,4 +377,5 @@ def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
             note = f"{MASS_PROPERTIES_NAME} in this build is not readable JSON ({exc})."
     findings, audit = report_findings(result.params, result.parts, mp)
     return write_report(result.params, out, parts=result.parts, mass_properties=mp, fit_dir=fit_dir,
-                        findings=findings, audit=audit, progress=progress, params_name=params_name, mass_note=note)
+                        findings=findings, audit=audit, progress=progress, params_name=params_name, mass_note=note,
+                        memo=memo, plots=plots)

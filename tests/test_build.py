@@ -78,10 +78,11 @@ def test_failing_family_leaves_no_folder_and_keeps_an_old_build(env, monkeypatch
     assert rc == 1
     assert "part family 'exploding' failed: RuntimeError: boom at the fillet" in err
     assert not (env / "out").exists() and leftovers(env) == []
-    # an earlier build in the way is left exactly as it was
+    # a folder in the way that is not a previous build is refused before any work, and left as it was
     (env / "out").mkdir()
     (env / "out" / "old.txt").write_text("previous build")
-    assert main(["build", "design.toml", "--out", "out", "--no-cache"]) == 1
+    assert main(["build", "design.toml", "--out", "out", "--no-cache"]) == 2
+    assert "--out out is not replaced" in capsys.readouterr().err
     assert [p.name for p in (env / "out").iterdir()] == ["old.txt"]
     assert leftovers(env) == []
 
@@ -111,8 +112,6 @@ def test_one_family_build_writes_files_and_manifest(env, monkeypatch, capsys):
     # a fin-only "design" has no robot to export: this test is about the file mechanics; the robot, mass
     # properties and report of the real design are checked in test_default_design_builds_end_to_end
     monkeypatch.setattr(pipeline, "write_robot_and_report", lambda *a, **k: [])
-    (env / "out").mkdir()
-    (env / "out" / "stale.stl").write_text("from an older build")
     assert main(["build", "design.toml", "--out", "out"]) == 0
     out, err = capsys.readouterr()
     files = sorted(p.relative_to(env / "out").as_posix() for p in (env / "out").rglob("*") if p.is_file())
