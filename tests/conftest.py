@@ -23,6 +23,20 @@ def require_tool(name: str, why: str) -> str:
     return path
 
 
+def require_module(name: str, why: str):
+    """The imported Python module ``name``, or skip with a clear reason (fail with SWIFTFIN_REQUIRE_TOOLS, as in
+    CI, where `.[test]` installs it). Works at module level too."""
+    import importlib
+
+    try:
+        return importlib.import_module(name)
+    except ImportError as exc:
+        msg = f"{name} not importable ({exc}): {why} (pip install -e '.[test]')"
+        if os.environ.get("SWIFTFIN_REQUIRE_TOOLS"):
+            pytest.fail(msg)
+        pytest.skip(msg, allow_module_level=True)
+
+
 def require_shared(*parts: str) -> Path:
     """A path under ../shared, or skip where the folder is absent (a user's plain clone)."""
     path = SHARED.joinpath(*parts)

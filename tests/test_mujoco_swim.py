@@ -22,8 +22,9 @@ import pytest
 from swiftfin.layout import geometry as layout
 from swiftfin.exports.robot import write_robot
 from swiftfin.physics.kinematics import relative_joint_angles_rad, wave_from_params
+from tests.conftest import require_module
 
-mujoco = pytest.importorskip("mujoco", reason="MuJoCo (the mujoco package) runs the swimming model")
+mujoco = require_module("mujoco", "MuJoCo (the mujoco package) runs the swimming model")
 from swiftfin.physics.swim_sim import FLUIDCOEF_DEFAULT, fluid_force_terms, load_model, swim  # noqa: E402
 
 pytestmark = pytest.mark.slow

@@ -16,6 +16,7 @@ from swiftfin.layout import geometry as layout
 from swiftfin.exports import massprops
 from swiftfin.exports.robot import write_robot
 from swiftfin.core.errors import BuildError
+from tests.conftest import require_module
 from tests.robot_helpers import mini_parts
 
 
@@ -120,7 +121,7 @@ def test_link_with_products_of_inertia(built):
 
 
 def _mujoco_model(out):
-    mujoco = pytest.importorskip("mujoco", reason="MuJoCo (the mujoco package) is needed to load the MJCF")
+    mujoco = require_module("mujoco", "MuJoCo (the mujoco package) is needed to load the MJCF")
     return mujoco, mujoco.MjModel.from_xml_path(str(out / "robot" / "swiftfin.xml"))
 
 
@@ -170,7 +171,7 @@ def test_mujoco_compiles_without_warnings_and_matches(built):
 
 def test_pybullet_loads_the_urdf_with_the_same_masses(built):
     p, parts, out, res = built
-    pybullet = pytest.importorskip("pybullet", reason="PyBullet is needed to load the URDF")
+    pybullet = require_module("pybullet", "PyBullet is needed to load the URDF")
     cid = pybullet.connect(pybullet.DIRECT)
     try:
         body = pybullet.loadURDF(str(out / "robot" / "swiftfin.urdf"), flags=pybullet.URDF_USE_INERTIA_FROM_FILE,
@@ -192,7 +193,7 @@ def test_pybullet_loads_the_urdf_with_the_same_masses(built):
 @pytest.mark.parametrize("fname", ["swiftfin.sdf", "swiftfin.urdf"])
 def test_drake_parses(built, fname):
     p, parts, out, res = built
-    pytest.importorskip("pydrake", reason="Drake (the drake package) is needed to parse the SDF/URDF")
+    require_module("pydrake", "Drake (the drake package) is needed to parse the SDF/URDF")
     from pydrake.multibody.parsing import Parser
     from pydrake.multibody.plant import MultibodyPlant
     plant = MultibodyPlant(0.0)
