@@ -6,7 +6,7 @@ STAMP := $(VENV)/.installed-stamp
 PARAMS ?= swiftfin.toml
 OUT ?= build
 
-.PHONY: build test test-fast bench clean
+.PHONY: build test test-fast bench clean clean-cache
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -28,3 +28,6 @@ bench: $(STAMP)
 
 clean:
 	rm -rf $(OUT) .pytest_cache
+
+clean-cache:
+	rm -rf .cache/swiftfin
