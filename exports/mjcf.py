@@ -17,10 +17,14 @@
 * **Flooded links** (``hull.flooded_from_joint``) carry the water inside them: the body's inertial is the link's
   plus that water's (``Link.in_water``), and the water's volume is added to the displaced volume at its centroid
   (it is neutrally buoyant). URDF and SDF describe the dry robot and leave it out.
-* **Buoyancy.** MuJoCo's fluid models add no buoyancy, so each body gets ``gravcomp = rho_w V_link / m_link``:
-  an upward force equal to the weight of the water the link displaces, applied at the link's COM. The
-  righting couple (buoyancy acts at the centre of buoyancy, not the COM) is not expressible in the file;
-  ``physics.swim_sim`` adds it at run time through ``xfrc_applied`` from the ``<link>_cob`` sites.
+* **Buoyancy, at the centre of buoyancy, in the file alone.** MuJoCo's fluid models add no buoyancy, and
+  ``gravcomp`` lifts a body at its own COM. So each link is two bodies: the link itself, and a welded child
+  ``<link>_buoyancy`` at the link's centre of buoyancy that carries a small share ``mu`` of its mass
+  (:data:`BUOY_MASS_FRACTION`) with ``gravcomp = rho_w V / mu``, an upward force equal to the weight of the
+  water the link displaces, applied at the COB. The link body keeps the rest, with its COM and inertia chosen
+  so that the two together have exactly the link's mass, COM and inertia (:func:`buoyancy_split`). Plain
+  MuJoCo (no callback) then feels gravity at the COM and buoyancy at the COB: the trimmed fish floats level and
+  rights itself. ``<link>_cob`` sites mark the centres of buoyancy.
 Visual meshes (OBJ, metres) are in group 1, fluid/collision ellipsoids in group 3.
 """
 from __future__ import annotations
@@ -33,6 +37,27 @@ from swiftfin.exports.robot_model import Robot
 from swiftfin.exports.urdf import fmt, num
 
 TIMESTEP_S = 5e-4
+BUOY_MASS_FRACTION = 0.05     # share of a link's mass moved to its buoyancy body (halved until the rest is valid)
+BUOY_RADIUS_M = 0.004         # the buoyancy body's inertia: a solid sphere of this radius
+BUOY_GEOM_RADIUS_M = 1e-4     # its only geom: a massless fluid-inert speck (see mjcf_tree)
+
+
+def buoyancy_split(inertial, cob_m, volume_m3: float, density_kg_m3: float):
+    """(link body, buoyancy body, buoyancy body's gravcomp) for a link of ``inertial`` (link frame) whose
+    displaced ``volume_m3`` has its centroid at ``cob_m``: the two bodies sum exactly to ``inertial``, and
+    ``gravcomp x mu x g = rho_w V g`` on the buoyancy body at the COB."""
+    from swiftfin.exports.inertia import combine, make_inertial
+
+    frac = BUOY_MASS_FRACTION
+    for _ in range(30):
+        mu = frac * inertial.mass_kg
+        buoy = make_inertial(mu, cob_m, np.eye(3) * 0.4 * mu * BUOY_RADIUS_M ** 2)
+        main = combine([inertial, buoy.scaled_mass(-1.0)])
+        ev = np.sort(np.linalg.eigvalsh(main.inertia))
+        if ev[0] > 1e-12 * ev[2] and ev[0] + ev[1] >= ev[2] * (1 + 1e-9):
+            return main, buoy, density_kg_m3 * volume_m3 / mu
+        frac /= 2
+    raise ValueError(f"no valid split of a link of {inertial.mass_kg!r} kg for its buoyancy body")
 
 
 def _children(robot: Robot) -> dict[str, list]:
@@ -64,9 +89,8 @@ def mjcf_tree(robot: Robot, free: bool = True) -> ET.ElementTree:
     def body(parent_el: ET.Element, name: str, pos) -> None:
         lk = by_name[name]
         inertial, V, cob = lk.in_water(med.density_kg_m3)     # a flooded link carries its water
-        m = inertial.mass_kg
-        gravcomp = med.density_kg_m3 * V / m
-        b = ET.SubElement(parent_el, "body", name=name, pos=fmt(*pos), gravcomp=num(gravcomp))
+        main, buoy, gravcomp = buoyancy_split(inertial, cob, V, med.density_kg_m3)
+        b = ET.SubElement(parent_el, "body", name=name, pos=fmt(*pos))
         if name == robot.links[0].name and free:
             ET.SubElement(b, "freejoint", name="root")
         jt = joints_by_child.get(name)
@@ -74,9 +98,17 @@ def mjcf_tree(robot: Robot, free: bool = True) -> ET.ElementTree:
             ET.SubElement(b, "joint", name=jt.name, type="hinge", axis=fmt(*jt.axis),
                           range=fmt(jt.lower_rad, jt.upper_rad), limited="true",
                           damping=num(jt.damping_nm_s_rad), armature=num(jt.armature_kg_m2))
-        I = inertial.inertia
-        ET.SubElement(b, "inertial", pos=fmt(*inertial.com_m), mass=num(m),
+        I = main.inertia
+        ET.SubElement(b, "inertial", pos=fmt(*main.com_m), mass=num(main.mass_kg),
                       fullinertia=fmt(I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]))
+        float_el = ET.SubElement(b, "body", name=f"{name}_buoyancy", pos=fmt(*buoy.com_m), gravcomp=num(gravcomp))
+        Ib = buoy.inertia
+        ET.SubElement(float_el, "inertial", pos=fmt(0.0, 0.0, 0.0), mass=num(buoy.mass_kg),
+                      diaginertia=fmt(Ib[0, 0], Ib[1, 1], Ib[2, 2]))
+        # a body with no fluid geom would get MuJoCo's inertia-box fluid model (drag on a box the size of its
+        # inertia): a 0.1 mm sphere with zero fluid coefficients keeps it on the ellipsoid model, with nothing
+        ET.SubElement(float_el, "geom", name=f"{name}_buoyancy", type="sphere", size=num(BUOY_GEOM_RADIUS_M),
+                      group="4", fluidshape="ellipsoid", fluidcoef="0 0 0 0 0", rgba="0 0 1 0")
         for g in lk.visuals:
             ET.SubElement(b, "geom", name=g.name, type="mesh", mesh=g.name, group="1",
                           pos=fmt(*g.T_link_geom.xyz_m), rgba="0.75 0.78 0.82 1")

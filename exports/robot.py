@@ -111,15 +111,15 @@ def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=
 
 
 def check_mjcf(folder: Path, xml_name: str, robot: Robot, water_density_kg_m3: float) -> None:
-    """MuJoCo compiles the MJCF and its body masses match the model's in water (the link plus the water a
-    flooded link carries, :meth:`Link.in_water`; 1e-9 relative)."""
+    """MuJoCo compiles the MJCF and its links' masses (link body + buoyancy body) match the model's in water
+    (the link plus the water a flooded link carries, :meth:`Link.in_water`; 1e-9 relative)."""
     import mujoco
     try:
         model = mujoco.MjModel.from_xml_path(str(folder / xml_name))
     except ValueError as exc:
         raise BuildError(f"MJCF: MuJoCo refused the model: {exc}") from exc
     for lk in robot.links:
-        m = model.body(lk.name).mass[0]
+        m = model.body(lk.name).mass[0] + model.body(f"{lk.name}_buoyancy").mass[0]
         want = lk.in_water(water_density_kg_m3)[0].mass_kg
         if abs(m - want) > 1e-9 * want:
             raise BuildError(f"link {lk.name}: MuJoCo mass {m!r} kg differs from {want!r} kg")

@@ -1,9 +1,8 @@
-"""Swimming run of the generated MJCF in MuJoCo: joints driven by the travelling wave, buoyancy couple added.
+"""Swimming run of the generated MJCF in MuJoCo: joints driven by the travelling wave.
 
-The MJCF (exports/mjcf.py) carries water (``<option density viscosity>``, ellipsoid fluid model) and the
-buoyant force of each link as ``gravcomp`` at its COM. What the file cannot say is that buoyancy acts at the
-centre of buoyancy: :func:`swim` adds, every step, the couple ``(r_cob - r_com) x F_b`` of each link through
-``xfrc_applied`` (world frame, at the COM), from the ``<link>_cob`` sites.
+The MJCF (exports/mjcf.py) carries water (``<option density viscosity>``, ellipsoid fluid model) and each
+link's buoyancy at its centre of buoyancy (a welded ``<link>_buoyancy`` body with ``gravcomp``), so nothing is
+added at run time: the fish floats, rights itself and swims as the file says.
 
 Joint commands: the relative joint angles of the travelling wave (physics.kinematics, eq. 43-47 in relative
 form), faded in over ``ramp_s`` (the paper's start-up transient is 0.5-1 s), fed to the position actuators.
@@ -69,14 +68,6 @@ class SwimResult:
         # q_j = a cos(w t - lag_j)  ->  sum q_j e^{-i w t} ~ e^{-i lag_j}
         lag = -np.angle(z)
         return np.mod(lag - lag[0], 2 * np.pi)
-
-
-def buoyancy_couple(model, data, rho_w: float, g: float, volumes_m3: dict[int, float], cob_site: dict[int, int]):
-    """Torque (world frame) of each body's buoyant force about its COM."""
-    for b, V in volumes_m3.items():
-        F = np.array([0.0, 0.0, rho_w * V * g])
-        r = data.site_xpos[cob_site[b]] - data.xipos[b]
-        data.xfrc_applied[b, 3:6] = np.cross(r, F)
 
 
 def load_model(model_path, planar: bool = False):
@@ -157,16 +148,6 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
             raise ValueError("initial_quat needs the free joint (planar=False)")
         data.qpos[3:7] = np.asarray(initial_quat, dtype=float)
     drive = WaveDrive(model, params, frequency_hz, ramp_s, amplitude_scale, phase_lag_rad)
-    rho_w = float(model.opt.density)
-    g = float(-model.opt.gravity[2])
-    volumes, cob = {}, {}
-    for b in range(1, model.nbody):
-        name = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_BODY, b)
-        s = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_SITE, f"{name}_cob")
-        if s >= 0:
-            # gravcomp * m * g = rho_w V g  ->  V
-            volumes[b] = float(model.body_gravcomp[b] * model.body_mass[b] / rho_w)
-            cob[b] = s
     head = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "head")
     steps = int(round(duration_s / model.opt.timestep))
     ts, head_x, com_x, q, cmd, axis = [], [], [], [], [], []
@@ -186,9 +167,6 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
             cmd.append(data.ctrl[drive.act].copy())
         if k == steps:
             break
-        mujoco.mj_kinematics(model, data)
-        mujoco.mj_comPos(model, data)
-        buoyancy_couple(model, data, rho_w, g, volumes, cob)
         mujoco.mj_step(model, data)
         if not (np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))):
             finite = False

@@ -29,3 +29,20 @@ def mini_parts(p) -> list[PartSpec]:
     x_fin = -(layout.hull_end_mm(p) + 25.0)
     out.append(PartSpec("fin_plate", Pos(x_fin, 0, 0) * Box(30, 2.4, 120), p.joints.count, "fin"))
     return out
+
+
+def mujoco_link_inertial(mujoco, model, name: str):
+    """A link's mass, COM and inertia (link frame) as MuJoCo compiled them: its link body plus the welded
+    buoyancy body ``<name>_buoyancy`` at its centre of buoyancy (exports/mjcf.py)."""
+    import numpy as np
+
+    from swiftfin.exports.inertia import combine, make_inertial
+
+    items = []
+    for body, offset in ((model.body(name), None), (model.body(f"{name}_buoyancy"), True)):
+        R = np.zeros(9)
+        mujoco.mju_quat2Mat(R, body.iquat)
+        R = R.reshape(3, 3)
+        com = np.asarray(body.ipos) + (np.asarray(body.pos) if offset else 0.0)
+        items.append(make_inertial(body.mass[0], com, R @ np.diag(body.inertia) @ R.T))
+    return combine(items)

@@ -142,13 +142,18 @@ def test_fluid_geoms(real_robot, default_params, default_parts):
     are slender (exports.robot_model.fluid_ellipsoid); the caudal fin has its own thin-plate ellipsoid on
     link_4: the fin's span, an ellipse of the fin's planform area (S = b^2 / aspect ratio, cad/fin.py)
     centred at the area centroid, and the blade's thickness."""
-    from swiftfin.cad.fin import planform
+    from swiftfin.layout.fin_plan import planform
     p = default_params
     path, res = real_robot
     model = load_model(path)
-    fluid = [g for g in range(model.ngeom) if model.geom_fluid[g, 0] > 0]
+    fluid = [g for g in range(model.ngeom) if model.geom_fluid[g, 0] > 0 and model.geom_fluid[g, 1:6].any()]
     names = {model.geom(g).name for g in fluid}
     assert names == {f"{lk.name}_fluid" for lk in res["robot"].links} | {"caudal_fin_fluid"}
+    # the buoyancy bodies' specks are on the ellipsoid model with every coefficient zero: they add no force
+    specks = [g for g in range(model.ngeom) if model.geom_fluid[g, 0] > 0 and g not in fluid]
+    assert {model.geom(g).name for g in specks} == {f"{lk.name}_buoyancy" for lk in res["robot"].links}
+    for g in specks:
+        assert model.geom_size[g, 0] <= 1e-4 and not model.geom_fluid[g, 1:6].any()
     for g in fluid:
         assert model.geom_type[g] == mujoco.mjtGeom.mjGEOM_ELLIPSOID
         assert np.allclose(model.geom_fluid[g, 1:6], FLUIDCOEF_DEFAULT)
@@ -301,3 +306,76 @@ def test_what_limits_the_speed_in_mujoco(real_robot, default_params):
 def test_fish_swims_forward_at_the_design_frequency(speeds, default_params):
     r = speeds[default_params.swimming.tail_beat_frequency_hz]
     assert r.forward_speed_m_s() > 0.0
+
+
+# ------------------------------------------------------------------------------------ plain MuJoCo, no callback
+def _plain_attitude_run(path, axis: int, start_deg: float, seconds: float = 6.0):
+    """The exported file alone in MuJoCo (no code of ours: no swim loop, no forces applied), zero commands,
+    started rotated by ``start_deg`` about the body's x (0: roll) or y (1: pitch) axis. Returns the pitch and
+    roll of the head [deg] every 0.1 s and the COM's displacement [m]."""
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    q = np.zeros(4)
+    mujoco.mju_axisAngle2Quat(q, np.eye(3)[axis], np.radians(start_deg))
+    data.qpos[3:7] = q
+    mujoco.mj_forward(model, data)
+    m = model.body_mass[1:]
+    c0 = (m[:, None] * data.xipos[1:]).sum(axis=0) / m.sum()
+    head = model.body("head").id
+    att = []
+    every = int(round(0.1 / model.opt.timestep))
+    for k in range(int(round(seconds / model.opt.timestep)) + 1):
+        if k % every == 0:
+            R = data.xmat[head].reshape(3, 3)
+            att.append((np.degrees(np.arcsin(np.clip(R[2, 0], -1, 1))), np.degrees(np.arctan2(R[2, 1], R[2, 2]))))
+        mujoco.mj_step(model, data)
+    c1 = (m[:, None] * data.xipos[1:]).sum(axis=0) / m.sum()
+    warnings = [mujoco.mjtWarning(i).name for i in range(len(data.warning)) if data.warning[i].number]
+    return np.array(att), c1 - c0, warnings
+
+
+def test_plain_mujoco_keeps_the_fish_level_and_rights_it(real_robot, capsys):
+    """Issue 15: buoyancy acts at each link's centre of buoyancy in the MJCF itself. Loaded by MuJoCo alone
+    (no callback), the trimmed fish at rest stays within 5 deg of level and in place over 6 s, and started at
+    30 deg of roll or of pitch it rights itself (within 5 deg over the last 2 s)."""
+    path, _ = real_robot
+    rows = []
+    for label, axis, start in (("rest", 0, 0.0), ("roll 30 deg", 0, 30.0), ("pitch 30 deg", 1, 30.0)):
+        att, dc, warnings = _plain_attitude_run(path, axis, start)
+        assert warnings == []
+        if start == 0.0:
+            assert np.abs(att).max() < 5.0, att
+            assert np.linalg.norm(dc) < 0.01
+        else:
+            assert abs(att[0, 1 - axis]) == pytest.approx(start, abs=0.5)        # it did start tilted
+            assert np.abs(att[-20:]).max() < 5.0, (label, att[-20:])
+        rows.append((label, att[-1, 0], att[-1, 1], np.abs(att[-20:]).max(), 1000 * np.linalg.norm(dc)))
+    with capsys.disabled():
+        print("\n  plain MuJoCo, the exported MJCF alone, zero commands, 6 s:")
+        for label, pitch, roll, late, dc in rows:
+            print(f"  from {label:13s}: pitch {pitch:+.2f} deg, roll {roll:+.2f} deg at 6 s; "
+                  f"largest tilt over the last 2 s {late:.2f} deg; COM moved {dc:.1f} mm")
+
+
+def test_the_mjcf_bodies_sum_to_the_mass_model(real_robot, default_params):
+    """Each link is a link body and a welded buoyancy body at its COB; together they have exactly the link's
+    mass, COM and inertia (with the water a flooded link carries), and the buoyancy body's gravcomp lifts the
+    weight of the water the link displaces."""
+    from tests.robot_helpers import mujoco_link_inertial
+
+    path, res = real_robot
+    model = mujoco.MjModel.from_xml_path(str(path))
+    data = mujoco.MjData(model)
+    mujoco.mj_forward(model, data)
+    rho = default_params.environment.water_density_kg_m3
+    g = default_params.environment.gravity_m_s2
+    for lk in res["robot"].links:
+        want, V, cob = lk.in_water(rho)
+        got = mujoco_link_inertial(mujoco, model, lk.name)
+        assert got.mass_kg == pytest.approx(want.mass_kg, rel=1e-9)
+        assert np.allclose(got.com, want.com, atol=1e-9)
+        assert np.allclose(got.inertia, want.inertia, rtol=1e-6, atol=1e-6 * np.abs(want.inertia).max())
+        buoy = model.body(f"{lk.name}_buoyancy")
+        assert np.allclose(buoy.pos, cob, atol=1e-12)
+        assert model.body_gravcomp[buoy.id] * buoy.mass[0] * g == pytest.approx(rho * V * g, rel=1e-9)
+        assert model.body_gravcomp[model.body(lk.name).id] == 0.0

@@ -14,10 +14,11 @@ import pytest
 
 from swiftfin.layout import geometry as layout
 from swiftfin.exports import massprops
+from swiftfin.exports.mjcf import buoyancy_split
 from swiftfin.exports.robot import write_robot
 from swiftfin.core.errors import BuildError
 from tests.conftest import require_module
-from tests.robot_helpers import mini_parts
+from tests.robot_helpers import mini_parts, mujoco_link_inertial
 
 
 @pytest.fixture(scope="module", params=["mini", pytest.param("default", marks=pytest.mark.slow)])
@@ -138,23 +139,23 @@ def test_mujoco_compiles_without_warnings_and_matches(built):
     for name, lk_dry in _links(res).items():
         # MuJoCo's model is the fish in water: a flooded link carries the water inside it
         inertial, V, cob = res["robot"].link(name).in_water(rho)
-        lk = type("InWater", (), {"inertial": inertial})
-        b = model.body(name)
-        assert b.mass[0] == pytest.approx(lk.inertial.mass_kg, rel=1e-6)
-        assert np.allclose(b.ipos, lk.inertial.com_m, rtol=1e-6, atol=1e-12)
-        # rebuild the full tensor from MuJoCo's principal moments and frame
-        R = np.zeros(9)
-        mujoco.mju_quat2Mat(R, b.iquat)
-        R = R.reshape(3, 3)
-        I_mj = R @ np.diag(b.inertia) @ R.T
-        I = lk.inertial.inertia
-        assert np.allclose(I_mj, I, rtol=1e-6, atol=1e-6 * np.abs(I).max())
-        # MuJoCo's fullinertia order: ixx iyy izz ixy ixz iyz
+        # each link is its body plus a welded buoyancy body at its centre of buoyancy (exports/mjcf.py)
+        got = mujoco_link_inertial(mujoco, model, name)
+        assert got.mass_kg == pytest.approx(inertial.mass_kg, rel=1e-6)
+        assert np.allclose(got.com, inertial.com, rtol=1e-6, atol=1e-12)
+        I = inertial.inertia
+        assert np.allclose(got.inertia, I, rtol=1e-6, atol=1e-6 * np.abs(I).max())
+        # MuJoCo's fullinertia order: ixx iyy izz ixy ixz iyz, of the link body's share
+        main, buoy, gravcomp = buoyancy_split(inertial, cob, V, rho)
         el = root.find(f".//body[@name='{name}']/inertial")
         full = [float(v) for v in el.get("fullinertia").split()]
-        assert full == [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
-        # buoyancy: gravcomp = rho_w V / m, V the link's displacement plus its water's volume
-        assert model.body_gravcomp[b.id] == pytest.approx(rho * V / lk.inertial.mass_kg)
+        Im = main.inertia
+        assert full == [Im[0, 0], Im[1, 1], Im[2, 2], Im[0, 1], Im[0, 2], Im[1, 2]]
+        # buoyancy: the buoyancy body at the COB lifts rho_w V g (V: the link's displacement plus its water's)
+        b = model.body(f"{name}_buoyancy")
+        assert model.body_gravcomp[b.id] * b.mass[0] == pytest.approx(rho * V, rel=1e-9)
+        assert np.allclose(b.pos, cob, atol=1e-12)
+        assert model.body_gravcomp[model.body(name).id] == 0.0
         assert np.allclose(model.site(f"{name}_cob").pos, cob, atol=1e-12)
         if res["robot"].link(name).entrained_water is None:
             assert inertial is lk_dry.inertial
