@@ -60,7 +60,6 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
-import os
 import math
 from dataclasses import dataclass, field, replace
 
@@ -73,6 +72,7 @@ from swiftfin.exports.brep import (  # noqa: F401  re-exported: the mass model's
     VOLUME_EPS, VolumeProps, _props, _wrapped, mesh_volume_props, solid_area_mm2, solid_volume_props)
 from swiftfin.exports.brep import tessellate_trimesh as tessellate
 from swiftfin.exports.inertia import Inertial, combine, make_inertial, parallel_axis  # noqa: F401  re-exported
+from swiftfin.exports.parallel import map_parts
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 
@@ -785,38 +785,6 @@ def _corner_inertials(parts_m: list[PartMass], pm: PrintModel, unc: dict, corner
             items.append(core.scaled_mass(-(1.0 - phi)))
         out.append(combine(items))
     return out
-
-
-_MAP_STATE: tuple = ()      # (fn, items) of the running map_parts, inherited by its forked workers
-
-
-def _map_one(i: int):
-    fn, items = _MAP_STATE
-    return fn(items[i])
-
-
-def map_parts(fn, items: list, jobs: int | None = 1) -> list:
-    """``[fn(x) for x in items]``, on ``jobs`` forked processes (None: one per core; 1 or one item: here).
-
-    Each part's mass is independent of the others' (the layer slicing of a hull piece takes seconds), so on a
-    two-core machine a cold build's mass model takes about half the time. The workers are forked, so ``fn``
-    and the parts (OpenCascade solids) need not be picklable; only the results are. Where fork is not
-    available the items are done here, one after the other.
-    """
-    global _MAP_STATE
-    import multiprocessing as mp
-
-    n = len(items)
-    jobs = (os.cpu_count() or 1) if jobs is None else jobs
-    jobs = min(jobs, n)
-    if jobs <= 1 or "fork" not in mp.get_all_start_methods():
-        return [fn(x) for x in items]
-    _MAP_STATE = (fn, items)
-    try:
-        with mp.get_context("fork").Pool(jobs) as pool:
-            return pool.map(_map_one, range(n), chunksize=1)
-    finally:
-        _MAP_STATE = ()
 
 
 def mass_properties(params: Params, parts, meshes: dict | None = None,

@@ -27,6 +27,7 @@ import numpy as np
 from swiftfin.core import units
 from swiftfin.exports import massprops
 from swiftfin.exports.mjcf import mjcf_bytes
+from swiftfin.exports.parallel import map_parts
 from swiftfin.exports.robot_model import Robot, collision_mesh_file, robot_from_design, visual_mesh_file
 from swiftfin.exports.sdf import sdf_bytes
 from swiftfin.exports.urdf import urdf_bytes
@@ -92,19 +93,24 @@ def _link_mesh_pair(members, meshes: dict, origin_m, budget: int, tol_mm: float,
     return (np.asarray(visual.vertices), np.asarray(visual.faces)), (np.asarray(hull.vertices), np.asarray(hull.faces))
 
 
-def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=None) -> dict[str, tuple]:
+def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=None,
+                jobs: int | None = 1) -> dict[str, tuple]:
     """{file name: (vertices [m], faces)} of every link's visual and collision mesh, in the link frame.
-    ``memo``: the application's store of results per link (massprops.memoized), keyed by the member parts."""
+    ``memo``: the application's store of results per link (massprops.memoized), keyed by the member parts;
+    ``jobs``: processes, one link each (exports.parallel.map_parts)."""
     e = params.export
     by_label = {p.label: p for p in parts}
-    out = {}
-    for lk in report.links:
+
+    def one(lk):
         members = [by_label[label] for label in lk.parts if label in by_label]     # cables: no solid
         extra = [list(lk.origin_m), e.visual_triangle_budget, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg]
-        visual, hull = massprops.memoized(
+        return massprops.memoized(
             memo, "link_mesh", tuple(p.label for p in members), extra,
-            lambda members=members, lk=lk: _link_mesh_pair(members, meshes, lk.origin_m, e.visual_triangle_budget,
-                                                           e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg))
+            lambda: _link_mesh_pair(members, meshes, lk.origin_m, e.visual_triangle_budget, e.mesh_tolerance_mm,
+                                    e.mesh_angular_tolerance_deg))
+
+    out = {}
+    for lk, (visual, hull) in zip(report.links, map_parts(one, list(report.links), jobs)):
         out[visual_mesh_file(lk.name)] = visual
         out[collision_mesh_file(lk.name)] = hull
     return out
@@ -152,7 +158,7 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
     tmp = Path(tempfile.mkdtemp(prefix=".robot-", dir=out_dir))
     try:
         (tmp / "meshes").mkdir()
-        for name, (v, f) in link_meshes(params, report, meshes, parts, memo).items():
+        for name, (v, f) in link_meshes(params, report, meshes, parts, memo, jobs).items():
             (tmp / name).write_bytes(obj_bytes(v, f, f"swiftfin {name} (m, link frame)"))
         (tmp / f"{ROBOT_NAME}.urdf").write_bytes(urdf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.xml").write_bytes(mjcf_bytes(robot))

@@ -148,40 +148,49 @@ def part_mass_index(mp: dict | None) -> dict[str, dict]:
 
 
 # ----------------------------------------------------------------------------------------------- sections
-#: triangles drawn for an assembly view (the parts' meshes are clustered down to it): at 2400 x 860 supersampled
-#: pixels for 520 mm of fish, 120 000 triangles are still smaller than the pixels of the hull's curvature, and the
-#: views take a third of the time of the full ~330 000.
-ASSEMBLY_VIEW_FACES = 120_000
+#: share of each part's triangles drawn in an assembly view (vertex clustering, per part, so that a part's view
+#: mesh does not change when another part does): about 120 000 of the default design's ~330 000, still smaller
+#: than the pixels of the hull's curvature at 2400 x 860 supersampled pixels for 520 mm of fish.
+ASSEMBLY_VIEW_FACE_FRACTION = 0.35
 
 
 def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
-                    memo=None) -> tuple[dict, dict[str, bytes], float]:
+                    memo=None, jobs: int | None = 1) -> tuple[dict, dict[str, bytes], float]:
     """Assembly pictures ({'exterior', 'cutaway'}) and one picture per printed part; returns the seconds taken.
-    ``memo(stage, labels, extra, compute)``: the application's store of pictures, keyed by the parts' content
-    (None: render every picture)."""
+    ``memo(stage, labels, extra, compute)``: the application's store of pictures and view meshes, keyed by the
+    parts' content (None: render every picture); ``jobs``: processes for the part pictures."""
     from swiftfin.report.render import MeshItem, png_bytes, render
+
+    from swiftfin.exports.parallel import map_parts
+    from swiftfin.report.render import cluster_decimate
 
     t0 = time.perf_counter()
     items = {p.label: MeshItem(p.vertices, p.faces, FAMILY_COLORS.get(p.family, OTHER_COLOR), p.label) for p in parts}
-    def picture(what: list, w: int, h: int, az: float, el: float, max_faces: int = 400_000) -> bytes:
-        def draw():
-            return png_bytes(render(what, w, h, azimuth_deg=az, elevation_deg=el, max_faces=max_faces))
-        if memo is None:
-            return draw()
-        return memo("picture", tuple(it.name for it in what), [w, h, az, el, max_faces,
-                                                               [list(it.color) for it in what]], draw)
+
+    def stored(stage: str, labels: tuple, extra, compute):
+        return compute() if memo is None else memo(stage, labels, extra, compute)
+
+    def picture(what: list, w: int, h: int, az: float, el: float) -> bytes:
+        return stored("picture", tuple(it.name for it in what),
+                      [w, h, az, el, [list(it.color) for it in what], [len(it.faces) for it in what]],
+                      lambda: png_bytes(render(what, w, h, azimuth_deg=az, elevation_deg=el, max_faces=10**9)))
+
+    def view_item(it: MeshItem) -> MeshItem:
+        n = max(200, int(ASSEMBLY_VIEW_FACE_FRACTION * len(it.faces)))
+        v, f = stored("view_mesh", (it.name,), [n], lambda: cluster_decimate(it.vertices, it.faces, n))
+        return MeshItem(v, f, it.color, it.name)
 
     out = {}
     progress("rendering the assembly (exterior)")
-    out["exterior"] = picture(list(items.values()), 1200, 430, 62, 22, ASSEMBLY_VIEW_FACES)
+    view = {label: view_item(it) for label, it in items.items()}
+    out["exterior"] = picture(list(view.values()), 1200, 430, 62, 22)
     progress("rendering the assembly (cut-away, upper hull halves hidden)")
-    cut = [items[p.label] for p in parts if not (p.family == "hull" and p.label.endswith("_upper"))]
-    out["cutaway"] = picture(cut, 1200, 430, 58, 40, ASSEMBLY_VIEW_FACES)
+    cut = [view[p.label] for p in parts if not (p.family == "hull" and p.label.endswith("_upper"))]
+    out["cutaway"] = picture(cut, 1200, 430, 58, 40)
     printed = [p for p in parts if p.printed]
-    pics = {}
-    for k, p in enumerate(printed):
-        progress(f"rendering part {k + 1}/{len(printed)}: {p.label}")
-        pics[p.label] = picture([items[p.label]], 360, 250, 62, 28)
+    progress(f"rendering {len(printed)} parts")
+    pngs = map_parts(lambda p: picture([items[p.label]], 360, 250, 62, 28), printed, jobs)
+    pics = {p.label: png for p, png in zip(printed, pngs)}
     return out, pics, time.perf_counter() - t0
 
 
@@ -533,7 +542,8 @@ class ReportTiming:
 
 def build_page(params: Params, parts=None, mass_properties: dict | None = None, fit_dir=None, *, findings,
                audit, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
-               mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None) -> str:
+               mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None,
+               jobs: int | None = 1) -> str:
     """The report page as a string (see :func:`write_report`)."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
@@ -541,7 +551,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
     rparts = [as_report_part(x) for x in parts] if parts is not None else None
     pics = part_pics = None
     if rparts:
-        pics, part_pics, timing.render_s = render_pictures(rparts, progress, memo)
+        pics, part_pics, timing.render_s = render_pictures(rparts, progress, memo, jobs)
     t0 = time.perf_counter()
     progress("plotting the efficiency curves (paper Fig. 8), one tail-beat and the body wave")
     if plots is None:
@@ -591,7 +601,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
 def write_report(params: Params, out_dir, parts=None, mass_properties: dict | None = None, fit_dir=None, *,
                  findings, audit, progress: Callable[[str], None] | None = None,
                  params_name: str = "swiftfin.toml", mass_note: str = "",
-                 timing: ReportTiming | None = None, memo=None, plots=None) -> Path:
+                 timing: ReportTiming | None = None, memo=None, plots=None, jobs: int | None = 1) -> Path:
     """Write ``out_dir/report.html`` and return its path.
 
     ``parts``: ReportParts or ``swiftfin.pipeline.BuiltPart``s (None: no pictures, the page says so);
@@ -604,7 +614,8 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
-                      params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots)
+                      params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots,
+                      jobs=jobs)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")

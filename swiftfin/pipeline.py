@@ -109,7 +109,8 @@ STAGE_MODULES: dict[str, tuple[str, ...]] = {
     "part_mass": ("swiftfin.exports.massprops",),
     "outside_piece": ("swiftfin.exports.massprops",),
     "link_mesh": ("swiftfin.exports.robot",),
-    "picture": ("swiftfin.report.render", "swiftfin.report.html"),
+    "picture": ("swiftfin.report.render",),
+    "view_mesh": ("swiftfin.report.render",),
 }
 
 
@@ -378,4 +379,4 @@ def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
     findings, audit = report_findings(result.params, result.parts, mp)
     return write_report(result.params, out, parts=result.parts, mass_properties=mp, fit_dir=fit_dir,
                         findings=findings, audit=audit, progress=progress, params_name=params_name, mass_note=note,
-                        memo=memo, plots=plots)
+                        memo=memo, plots=plots, jobs=build_jobs())
