@@ -1,6 +1,6 @@
 """The assembly: every part placed in the body frame, the kinematic chain, and the assembly checks.
 
-Kinematics (cad/layout.py): joint j (1..N) turns about a vertical axis through (x = -s_j, y = 0); a positive
+Kinematics (layout/geometry.py): joint j (1..N) turns about a vertical axis through (x = -s_j, y = 0); a positive
 angle turns the child's tail toward +y, i.e. a rotation by -theta about +z. A part on link k moves by
 ``T_1(theta_1) T_2(theta_2) ... T_k(theta_k)`` applied to its rest coordinates (the deepest joint first,
 about its rest axis; the parents then carry that axis along).

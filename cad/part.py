@@ -9,7 +9,7 @@ from typing import Any
 class PartSpec:
     """One part of the robot.
 
-    ``solid``: a build123d ``Solid``/``Part`` in the **body frame at rest, in millimetres** (see cad/layout.py).
+    ``solid``: a build123d ``Solid``/``Part`` in the **body frame at rest, in millimetres** (see layout/geometry.py).
     ``label``: unique, snake_case; becomes the STEP product name and the file stem (``hull_head_upper``).
     ``link``: kinematic link index (0 = head/base, j = behind joint j).
     ``family``: the module that made it ("hull", "fin", "link", "spool", "guide", "mount", "bought").

@@ -43,12 +43,12 @@ Method (house style rules 3, 10)
   e.g. the 2 mm hull shells) is legitimate: the part prints solid, as the slicer prints it.
 
 Links: parts are grouped by ``PartSpec.link``; each link's frame has its origin on its joint axis at z = 0
-(link 0: at the nose) and axes parallel to the body frame at rest (cad/layout.py); the link inertia is about
+(link 0: at the nose) and axes parallel to the body frame at rest (layout/geometry.py); the link inertia is about
 the link COM in those axes.
 
 Buoyancy: the hull is taken as **sealed and skinned** (an assumption: a waterproof skin spans the joint
 gaps and the segments are closed), so the displaced volume is the closed outer envelope of the body from the nose to the hull end
-(the NACA 00xx elliptical sections of cad/layout.py, integrated numerically) plus the part of the caudal fin
+(the NACA 00xx elliptical sections of layout/geometry.py, integrated numerically) plus the part of the caudal fin
 behind the hull end (exact B-rep). Water inside the hull is not displaced water: it is sealed.
 
 Ranges for domain randomisation: each link's mass, COM and inertia at the 16 corners of the uncertainty box
@@ -1013,7 +1013,7 @@ def report_to_dict(params: Params, report: MassReport) -> dict:
     pr = params.print
     d = {
         "units": "SI (kg, m, kg m^2, N); inertia about the centre of mass",
-        "frames": "body frame: origin at the nose, +x forward, +z up (cad/layout.py); link frames: origin on the "
+        "frames": "body frame: origin at the nose, +x forward, +z up (layout/geometry.py); link frames: origin on the "
                   "link's joint axis at z = 0 (head: the nose), axes parallel to the body frame at rest",
         "print_settings": {"perimeters": pr.perimeters, "line_width_mm": pr.line_width_mm,
                            "layer_height_mm": pr.layer_height_mm, "top_layers": pr.top_layers,

@@ -2,13 +2,13 @@
 
 A frozen :class:`Robot` of :class:`Link`, :class:`Joint` and :class:`Tendon`, in SI units. Frames:
 
-* the base link ``head`` has its frame at the nose (the body frame of cad/layout.py: +x forward, +z up);
+* the base link ``head`` has its frame at the nose (the body frame of layout/geometry.py: +x forward, +z up);
 * link j's frame has its origin on joint j's axis at z = 0 and axes parallel to the body frame at rest;
   ``Joint.T_parent_child`` is the pose of the child's frame in the parent's at zero joint angle (a pure
   translation along -x);
 * inertials are about the link COM in link axes (:class:`exports.massprops.Inertial`, COM in the link frame).
 
-Joint axis: ``(0, 0, -1)``, so that a positive joint angle turns the child's tail toward +y (cad/layout.py).
+Joint axis: ``(0, 0, -1)``, so that a positive joint angle turns the child's tail toward +y (layout/geometry.py).
 
 Water: every swimming link carries a ``fluid`` ellipsoid (centre and semi-axes in the link frame; the head's
 of its hull envelope, the hull links' slender, see :func:`fluid_ellipsoid`), plus a thin-plate ellipsoid for

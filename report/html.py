@@ -241,7 +241,7 @@ def assembly_section(pics: dict | None, parts) -> str:
         f'<span class="swatch" style="background:rgb({int(255 * c[0])},{int(255 * c[1])},{int(255 * c[2])})"></span>'
         f'{esc(fam)}&ensp;' for fam, c in FAMILY_COLORS.items() if any(x.family == fam for x in parts))
     return (f'<figure class="wide">{img(pics["exterior"], "assembly, exterior")}'
-            f'<figcaption>The assembled robot at rest, every part in place (nose left, body frame of cad/layout.py). '
+            f'<figcaption>The assembled robot at rest, every part in place (nose left, body frame of layout/geometry.py). '
             f'Colours by part family: {legend}</figcaption></figure>'
             f'<figure class="wide">{img(pics["cutaway"], "assembly, cut-away")}'
             f'<figcaption>Cut-away: the upper hull halves hidden, showing the motor row, spools, guides and the '

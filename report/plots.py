@@ -78,7 +78,7 @@ def efficiency_curves(p: Params, frequency_hz: np.ndarray) -> dict[str, np.ndarr
     * ``capstan_model_paper``: eq. 28 with the paper's §2.3 inputs and the guides' own eq. 25 (two 90 deg PTFE
       bends): eta_c (eq. 26) x e^(-mu pi/2)^2 x eta_cable. No term of the model depends on frequency.
     * ``capstan_model_design_best`` / ``_worst``: eq. 28 for this design's cable routes (the total bend of each
-      joint's route from cad/layout.py, swiftfin.layout.loads.drive_loads), best and worst joint.
+      joint's route from layout/geometry.py, swiftfin.layout.loads.drive_loads), best and worst joint.
     * ``servo_model_derived``: eq. 18 with the three-stage mesh efficiency of eq. 4-5 and the backlash power
       derived from eq. 6-8 at the §2.2.2 inputs; P_mech = P0 f with P0 = 2.16 W / 3 Hz (the paper's operating
       point). Friction and inertia terms need Table 1's constants, which the paper leaves blank: omitted.

@@ -6,7 +6,7 @@ pixel. Why not pyrender/OSMesa: they need an OpenGL stack that CI images do not 
 only numpy and Pillow (a matplotlib dependency), so it runs anywhere the rest of the project does.
 
 Pipeline (:func:`render`): orthographic camera from an azimuth and an elevation (degrees; body frame of
-cad/layout.py: +x forward, +y left, +z up) -> every triangle's screen bounding box -> triangles batched by box
+layout/geometry.py: +x forward, +y left, +z up) -> every triangle's screen bounding box -> triangles batched by box
 size and rasterised vectorised (edge functions at pixel centres) into a depth buffer, a face-index buffer and
 barycentric coordinates -> shading per pixel: crease-aware smooth normals (corners whose faces differ by more
 than ``crease_deg`` keep their own normal), Lambert key + fill light, a small Blinn-Phong highlight, ambient ->

@@ -1,4 +1,4 @@
-"""The swimming load model (physics/loads.py): closed-form limits, hand-worked values, exact scalings."""
+"""The swimming load model (layout/loads.py): closed-form limits, hand-worked values, exact scalings."""
 from __future__ import annotations
 
 import math
