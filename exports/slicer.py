@@ -46,31 +46,39 @@ class SliceResult:
         return self.filament_mm3 / 1000.0
 
 
-def slicer_args(p) -> list[str]:
-    """Command-line options for the ``[print]`` section of a Params."""
+def slicer_config(p) -> dict[str, str]:
+    """PrusaSlicer's configuration keys and values for the ``[print]`` section of a Params: what the command
+    line passes (:func:`slicer_args`) and what every 3MF carries in ``Metadata/Slic3r_PE.config``."""
     pr = p.print
     w = f"{pr.line_width_mm:g}"
-    bed = f"0x0,{pr.bed_x_mm:g}x0,{pr.bed_x_mm:g}x{pr.bed_y_mm:g},0x{pr.bed_y_mm:g}"
-    args = [
-        "--layer-height", f"{pr.layer_height_mm:g}",
-        "--first-layer-height", f"{pr.layer_height_mm:g}",
-        "--perimeters", str(pr.perimeters),
-        "--top-solid-layers", str(pr.top_layers),
-        "--bottom-solid-layers", str(pr.bottom_layers),
-        "--fill-density", f"{100 * pr.infill_fraction:g}%",
-        "--fill-pattern", _PATTERNS[pr.infill_pattern],
-        "--nozzle-diameter", f"{pr.nozzle_diameter_mm:g}",
-        "--filament-diameter", f"{pr.filament_diameter_mm:g}",
-        "--filament-density", f"{pr.filament_density_kg_m3 / 1000:g}",
-        "--bed-shape", bed,
-        "--max-print-height", f"{pr.bed_z_mm:g}",
-        "--skirts", "0",
-        "--brim-width", "0",
-    ]
-    for role in ("extrusion-width", "first-layer-extrusion-width", "perimeter-extrusion-width",
-                 "external-perimeter-extrusion-width", "infill-extrusion-width",
-                 "solid-infill-extrusion-width", "top-infill-extrusion-width"):
-        args += [f"--{role}", w]
+    cfg = {
+        "layer_height": f"{pr.layer_height_mm:g}",
+        "first_layer_height": f"{pr.layer_height_mm:g}",
+        "perimeters": str(pr.perimeters),
+        "top_solid_layers": str(pr.top_layers),
+        "bottom_solid_layers": str(pr.bottom_layers),
+        "fill_density": f"{100 * pr.infill_fraction:g}%",
+        "fill_pattern": _PATTERNS[pr.infill_pattern],
+        "nozzle_diameter": f"{pr.nozzle_diameter_mm:g}",
+        "filament_diameter": f"{pr.filament_diameter_mm:g}",
+        "filament_density": f"{pr.filament_density_kg_m3 / 1000:g}",
+        "bed_shape": f"0x0,{pr.bed_x_mm:g}x0,{pr.bed_x_mm:g}x{pr.bed_y_mm:g},0x{pr.bed_y_mm:g}",
+        "max_print_height": f"{pr.bed_z_mm:g}",
+        "skirts": "0",
+        "brim_width": "0",
+    }
+    for role in ("extrusion_width", "first_layer_extrusion_width", "perimeter_extrusion_width",
+                 "external_perimeter_extrusion_width", "infill_extrusion_width",
+                 "solid_infill_extrusion_width", "top_infill_extrusion_width"):
+        cfg[role] = w
+    return cfg
+
+
+def slicer_args(p) -> list[str]:
+    """Command-line options for the ``[print]`` section of a Params (:func:`slicer_config` as flags)."""
+    args = []
+    for key, value in slicer_config(p).items():
+        args += [f"--{key.replace('_', '-')}", value]
     return args
 
 
@@ -103,17 +111,21 @@ def parse_gcode_summary(text: str, filament_diameter_mm: float, stl: str = "") -
                        float(grams) if grams else None, parse_duration_s(ptime), ptime)
 
 
-def slice_stl(stl: str | Path, p, gcode_out: str | Path | None = None, slicer: str | None = None) -> SliceResult:
-    """Slice one STL with the print settings of ``p``; raise SlicerError with the slicer's message on failure."""
+def slice_stl(stl: str | Path, p, gcode_out: str | Path | None = None, slicer: str | None = None,
+              settings: bool = True) -> SliceResult:
+    """Slice one STL (or 3MF) with the print settings of ``p``; raise SlicerError with the slicer's message on
+    failure. ``settings`` False: pass no settings at all, as a user who opens the file would (a 3MF then slices
+    with the settings it carries, exports.files.threemf_bytes; ``p`` only gives the filament diameter)."""
     exe = slicer or shutil.which(SLICER)
     if exe is None:
         raise SlicerError(f"{SLICER} not found on PATH (Debian/Ubuntu: apt-get install prusa-slicer)")
     stl = Path(stl)
     if not stl.is_file():
-        raise SlicerError(f"{stl}: no such STL")
+        raise SlicerError(f"{stl}: no such file")
     with tempfile.TemporaryDirectory(prefix="swiftfin-slice-") as tmp:
         out = Path(gcode_out) if gcode_out else Path(tmp) / (stl.stem + ".gcode")
-        cmd = [exe, "--loglevel", "1", "--export-gcode", *slicer_args(p), "--output", str(out), str(stl)]
+        cmd = [exe, "--loglevel", "1", "--export-gcode", *(slicer_args(p) if settings else []), "--output", str(out),
+               str(stl)]
         try:
             proc = subprocess.run(cmd, capture_output=True, text=True, timeout=TIMEOUT_S,
                                   env={"HOME": tmp, "PATH": "/usr/bin:/bin", "LC_ALL": "C"})

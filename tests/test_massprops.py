@@ -240,7 +240,8 @@ def test_cable_mass_is_linear_density_times_length(default_params):
 @pytest.mark.slicer
 def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_params, default_parts, tmp_path, capsys):
     """The predicted plastic volume of every printed part of the default design is within 5 % of the
-    filament PrusaSlicer extrudes for it with the same [print] settings (exports/slicer.py)."""
+    filament PrusaSlicer extrudes for it, slicing the part's 3MF alone: no settings on the command line, only
+    the [print] settings the 3MF carries (issue 15; exports/files.threemf_bytes, exports/slicer.py)."""
     from tests.conftest import require_tool
     require_tool("prusa-slicer", "the printed-volume model is checked against PrusaSlicer")
     from swiftfin.exports.files import export_part
@@ -252,11 +253,11 @@ def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_param
         if not part.printed:
             continue
         ex = export_part(part, p)
-        stl = tmp_path / f"{part.label}.stl"
-        stl.write_bytes(ex.files[".stl"])
+        threemf = tmp_path / f"{part.label}.3mf"
+        threemf.write_bytes(ex.files[".3mf"])
         mesh = mp.tessellate(part.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
         pred = mp.part_mass(part, pm, mesh, p.print.layer_height_mm).volume_material_m3 * 1e9
-        got = slice_stl(stl, p).filament_mm3
+        got = slice_stl(threemf, p, settings=False).filament_mm3
         rows.append((part.label, pred, got, 100 * (pred / got - 1)))
     with capsys.disabled():
         print("\n| part | predicted [mm^3] | PrusaSlicer [mm^3] | error [%] |\n|---|---:|---:|---:|")

@@ -111,3 +111,43 @@ def test_every_printed_part_of_the_default_design_slices(default_params, tmp_pat
     print("\npart                         solid cm^3  filament cm^3  time min")
     for label, v, f, t in rows:
         print(f"{label:<28} {v / 1000:10.2f} {f / 1000:14.2f} {t / 60:9.1f}")
+
+
+def test_every_3mf_carries_the_print_settings_prusaslicer_reads(default_params):
+    """The 3MF's Metadata/Slic3r_PE.config holds the [print] section as PrusaSlicer's own keys: the same values
+    the command line passes (one table, exports.slicer.slicer_config)."""
+    import io
+    import zipfile
+
+    from swiftfin.exports.files import PRUSA_CONFIG, threemf_bytes
+    from swiftfin.exports.slicer import slicer_config
+
+    p = replace_key(default_params, "print.infill_fraction", 0.35)
+    m = tessellate(bd.Box(10, 10, 10), 0.05, 10.0)
+    with zipfile.ZipFile(io.BytesIO(threemf_bytes(m, "cube", slicer_config(p)))) as z:
+        text = z.read(PRUSA_CONFIG).decode()
+    cfg = dict(line[2:].split(" = ", 1) for line in text.splitlines()[1:])
+    assert cfg["fill_density"] == "35%" and cfg["perimeters"] == "3" and cfg["layer_height"] == "0.2"
+    assert cfg == slicer_config(p)
+    args = slicer_args(p)
+    assert dict(zip(args[::2], args[1::2])) == {f"--{k.replace('_', '-')}": v for k, v in cfg.items()}
+
+
+@pytest.mark.slicer
+def test_a_3mf_alone_slices_with_the_design_settings_not_the_defaults(tmp_path):
+    """Sliced with nothing on the command line, a part's 3MF extrudes what its STL does with the design's
+    settings (to 0.1 %), and not what the STL does with PrusaSlicer's defaults."""
+    require_tool("prusa-slicer", WHY)
+    from swiftfin.exports.files import threemf_bytes
+    from swiftfin.exports.slicer import slicer_config
+
+    p = replace_key(Params(), "print.infill_fraction", 0.40)     # far from PrusaSlicer's default 15 %
+    m = tessellate(bd.Box(30, 30, 20), 0.05, 10.0)
+    m = m.transformed(print_transform(m, (0, 0, 0), 250, 210))
+    (tmp_path / "b.stl").write_bytes(stl_bytes(m, "b"))
+    (tmp_path / "b.3mf").write_bytes(threemf_bytes(m, "b", slicer_config(p)))
+    alone = slice_stl(tmp_path / "b.3mf", p, settings=False).filament_mm3
+    with_args = slice_stl(tmp_path / "b.stl", p).filament_mm3
+    defaults = slice_stl(tmp_path / "b.stl", p, settings=False).filament_mm3
+    assert alone == pytest.approx(with_args, rel=1e-3)
+    assert abs(defaults / with_args - 1) > 0.05
