@@ -2,7 +2,8 @@
 
 ``write_robot(params, parts, out_dir)`` ->
 
-    out_dir/robot/swiftfin.urdf, swiftfin.xml (MJCF), swiftfin.sdf, meshes/<link>_{visual,collision}.obj
+    out_dir/robot/swiftfin.urdf, swiftfin.xml (MJCF), swiftfin.sdf, swiftfin_world.sdf (the model in water, for
+    Gazebo), meshes/<link>_{visual,collision}.obj
     out_dir/mass_properties.json
 
 Everything goes through one :class:`exports.robot_model.Robot` (house style rule 11). The mass properties
@@ -29,7 +30,7 @@ from swiftfin.exports import massprops
 from swiftfin.exports.mjcf import mjcf_bytes
 from swiftfin.exports.parallel import map_parts
 from swiftfin.exports.robot_model import Robot, collision_mesh_file, robot_from_design, visual_mesh_file
-from swiftfin.exports.sdf import sdf_bytes
+from swiftfin.exports.sdf import sdf_bytes, world_bytes
 from swiftfin.exports.urdf import urdf_bytes
 from swiftfin.core.errors import BuildError
 
@@ -163,6 +164,7 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
         (tmp / f"{ROBOT_NAME}.urdf").write_bytes(urdf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.xml").write_bytes(mjcf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.sdf").write_bytes(sdf_bytes(robot))
+        (tmp / f"{ROBOT_NAME}_world.sdf").write_bytes(world_bytes(robot))
         check_mjcf(tmp, f"{ROBOT_NAME}.xml", robot, params.environment.water_density_kg_m3)
         data = massprops.report_to_dict(params, report)
         data["checks"] = checks

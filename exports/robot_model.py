@@ -17,6 +17,7 @@ Buoyancy (``Link.displaced_volume_m3``, ``Link.cob_m``): the exporters that can 
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -58,6 +59,7 @@ class Link:
     displaced_volume_m3: float
     cob_m: tuple[float, float, float]   # centre of buoyancy, link frame
     entrained_water: Inertial | None = None   # water inside a flooded link, link frame (moves with it in water)
+    hydro: object = None                # exports.hydro.LinkHydro: added mass and damping, Fossen's notation
 
     def in_water(self, water_density_kg_m3: float) -> tuple[Inertial, float, tuple[float, float, float]]:
         """(inertial, displaced volume, centre of buoyancy) of the link as it moves in water: with the water it
@@ -241,6 +243,10 @@ def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfi
         cob_link = tuple(float(v) for v in np.asarray(cob) - np.asarray(lk.origin_m))
         links.append(Link(lk.name, lk.inertial, (visual,), (collision,), tuple(fluid), float(V), cob_link,
                           None if water is None else water.shifted(lk.origin_m)))
+    from swiftfin.exports.hydro import link_hydrodynamics
+
+    hydro = link_hydrodynamics(p, [lk.name for lk in links], [lk.entrained_water for lk in links])
+    links = [dataclasses.replace(lk, hydro=hd) for lk, hd in zip(links, hydro)]
     joints, tendons, actuators = [], [], []
     tau = joint_torque_limit_nm(p)
     arm = reflected_armature_kg_m2(p)

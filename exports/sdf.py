@@ -1,8 +1,21 @@
-"""SDFormat 1.9 writer (xml.etree) for an :class:`exports.robot_model.Robot`.
+"""SDFormat 1.9 writer (xml.etree) for an :class:`exports.robot_model.Robot`, with its water for Gazebo (gz-sim).
 
 Each link's pose is given relative to the model frame (the body frame at rest: link origins on the joint
-axes); the inertial pose is the COM in the link frame; joints sit at the child link's origin with the axis
-expressed in the model frame. Meshes are OBJ files in metres, referenced relative to the SDF file.
+axes); the inertial pose is the COM in the link frame (the dry link: a flooded link's water is not its mass);
+joints sit at the child link's origin with the axis expressed in the model frame. Visual meshes are OBJ files
+in metres, referenced relative to the SDF file.
+
+Water (Gazebo's maritime pattern, gz-sim "theory_buoyancy"):
+
+* **Buoyancy.** Gazebo's Buoyancy system (a world system) takes each link's displaced volume from its
+  ``<collision>`` shapes and pushes at their centre of volume. So each link's one collision is an ellipsoid
+  ``<link>_buoyancy`` of exactly the volume the link displaces (the mass model's: the closed envelope of a
+  sealed link, the solids of a flooded one), shaped like the link's fluid ellipsoid and centred at its centre
+  of buoyancy; it is also the link's contact shape. The convex-hull collision meshes stay in the URDF and the
+  MJCF. ``swiftfin_world.sdf`` is a world with the Buoyancy system (``uniform_fluid_density``) and this model.
+* **Hydrodynamics.** One Gazebo Hydrodynamics system per link, with its added mass and quadratic damping in
+  Fossen's notation from strip theory (:mod:`swiftfin.exports.hydro`), a flooded link's water included, in
+  ``swiftfin_world.sdf`` (``swiftfin.sdf`` stays free of plugins, which strict parsers such as Drake's refuse).
 """
 from __future__ import annotations
 
@@ -49,9 +62,30 @@ def link_poses_m(robot: Robot) -> dict[str, np.ndarray]:
     return out
 
 
-def sdf_tree(robot: Robot) -> ET.ElementTree:
-    root = ET.Element("sdf", version=SDF_VERSION)
-    model = ET.SubElement(root, "model", name=robot.name)
+WORLD_NAME = "swiftfin_water"
+
+
+def buoyancy_collision(lk) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """(radii [m], centre in the link frame [m]) of the ellipsoid whose volume is the link's displaced volume,
+    shaped like its (first) fluid ellipsoid, centred at its centre of buoyancy."""
+    shape = np.asarray(lk.fluid[0].size_m, dtype=float) if lk.fluid else np.ones(3)
+    k = (lk.displaced_volume_m3 / (4.0 / 3.0 * np.pi * float(np.prod(shape)))) ** (1.0 / 3.0)
+    return tuple(float(v) for v in k * shape), tuple(float(v) for v in lk.cob_m)
+
+
+def _hydrodynamics_plugin(parent: ET.Element, lk, water_density_kg_m3: float) -> None:
+    pl = ET.SubElement(parent, "plugin", filename="gz-sim-hydrodynamics-system",
+                       name="gz::sim::systems::Hydrodynamics")
+    ET.SubElement(pl, "link_name").text = lk.name
+    ET.SubElement(pl, "water_density").text = num(water_density_kg_m3)
+    for key, value in lk.hydro.as_fossen().items():
+        ET.SubElement(pl, key).text = num(value)
+
+
+def _model(parent: ET.Element, robot: Robot, water: bool = False) -> ET.Element:
+    """The model; ``water``: with the links' Hydrodynamics systems (Gazebo only: other parsers, Drake's strict
+    one among them, refuse unknown plugins, so the plain model file leaves them to the world file)."""
+    model = ET.SubElement(parent, "model", name=robot.name)
     poses = link_poses_m(robot)
     for lk in robot.links:
         el = ET.SubElement(model, "link", name=lk.name)
@@ -68,10 +102,11 @@ def sdf_tree(robot: Robot) -> ET.ElementTree:
             v = ET.SubElement(el, "visual", name=g.name)
             _pose(v, g.T_link_geom)
             _geometry(v, g)
-        for g in lk.collisions:
-            c = ET.SubElement(el, "collision", name=g.name)
-            _pose(c, g.T_link_geom)
-            _geometry(c, g)
+        if lk.displaced_volume_m3 > 0:
+            radii, centre = buoyancy_collision(lk)
+            c = ET.SubElement(el, "collision", name=f"{lk.name}_buoyancy")
+            _pose(c, Pose(centre))
+            ET.SubElement(ET.SubElement(ET.SubElement(c, "geometry"), "ellipsoid"), "radii").text = fmt(*radii)
     for jt in robot.joints:
         el = ET.SubElement(model, "joint", name=jt.name, type="revolute")
         ET.SubElement(el, "parent").text = jt.parent
@@ -85,9 +120,40 @@ def sdf_tree(robot: Robot) -> ET.ElementTree:
         ET.SubElement(lim, "effort").text = num(jt.effort_nm)
         ET.SubElement(lim, "velocity").text = num(jt.velocity_rad_s)
         ET.SubElement(ET.SubElement(ax, "dynamics"), "damping").text = num(jt.damping_nm_s_rad)
+    if water:
+        for lk in robot.links:
+            if lk.hydro is not None:
+                _hydrodynamics_plugin(model, lk, robot.medium.density_kg_m3)
+    return model
+
+
+def sdf_tree(robot: Robot) -> ET.ElementTree:
+    root = ET.Element("sdf", version=SDF_VERSION)
+    _model(root, robot)
+    ET.indent(root)
+    return ET.ElementTree(root)
+
+
+def world_tree(robot: Robot) -> ET.ElementTree:
+    """A world of water holding the model: gravity, Gazebo's Buoyancy system at the water's density, and the
+    systems a user needs to run it (physics, scene broadcaster, user commands)."""
+    root = ET.Element("sdf", version=SDF_VERSION)
+    world = ET.SubElement(root, "world", name=WORLD_NAME)
+    ET.SubElement(world, "gravity").text = fmt(0.0, 0.0, -robot.medium.gravity_m_s2)
+    for filename, name in (("gz-sim-physics-system", "gz::sim::systems::Physics"),
+                           ("gz-sim-user-commands-system", "gz::sim::systems::UserCommands"),
+                           ("gz-sim-scene-broadcaster-system", "gz::sim::systems::SceneBroadcaster")):
+        ET.SubElement(world, "plugin", filename=filename, name=name)
+    b = ET.SubElement(world, "plugin", filename="gz-sim-buoyancy-system", name="gz::sim::systems::Buoyancy")
+    ET.SubElement(b, "uniform_fluid_density").text = num(robot.medium.density_kg_m3)
+    _model(world, robot, water=True)
     ET.indent(root)
     return ET.ElementTree(root)
 
 
 def sdf_bytes(robot: Robot) -> bytes:
     return ET.tostring(sdf_tree(robot).getroot(), encoding="utf-8", xml_declaration=True) + b"\n"
+
+
+def world_bytes(robot: Robot) -> bytes:
+    return ET.tostring(world_tree(robot).getroot(), encoding="utf-8", xml_declaration=True) + b"\n"

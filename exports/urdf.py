@@ -1,8 +1,11 @@
 """URDF writer (xml.etree) for an :class:`exports.robot_model.Robot`.
 
 Inertial origin at the link COM with ``rpy="0 0 0"`` and the full tensor in link axes; joint origins are
-``T_parent_child``; meshes are OBJ files in metres, referenced relative to the URDF. Water, buoyancy and the
-cable tendons have no URDF element: they live in the MJCF (and in mass_properties.json).
+``T_parent_child``; meshes are OBJ files in metres, referenced relative to the URDF. The cable tendons have no
+URDF element (they live in the MJCF). Water: a ``<gazebo>`` extension block per link carries Gazebo's
+Hydrodynamics system with the link's added mass and damping (exports/hydro.py), as gz-sim reads it when it
+loads a URDF; buoyancy in Gazebo needs the collision volumes of the SDF (exports/sdf.py), since the URDF's
+collisions are the links' convex hulls, the contact shapes PyBullet and Drake use.
 """
 from __future__ import annotations
 
@@ -65,6 +68,16 @@ def urdf_tree(robot: Robot) -> ET.ElementTree:
         ET.SubElement(el, "limit", lower=num(jt.lower_rad), upper=num(jt.upper_rad), effort=num(jt.effort_nm),
                       velocity=num(jt.velocity_rad_s))
         ET.SubElement(el, "dynamics", damping=num(jt.damping_nm_s_rad))
+    for lk in robot.links:
+        if lk.hydro is None:
+            continue
+        gz = ET.SubElement(root, "gazebo")
+        pl = ET.SubElement(gz, "plugin", filename="gz-sim-hydrodynamics-system",
+                           name="gz::sim::systems::Hydrodynamics")
+        ET.SubElement(pl, "link_name").text = lk.name
+        ET.SubElement(pl, "water_density").text = num(robot.medium.density_kg_m3)
+        for key, value in lk.hydro.as_fossen().items():
+            ET.SubElement(pl, key).text = num(value)
     ET.indent(root)
     return ET.ElementTree(root)
 
