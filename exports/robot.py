@@ -3,7 +3,7 @@
 ``write_robot(params, parts, out_dir)`` ->
 
     out_dir/robot/swiftfin.urdf, swiftfin.xml (MJCF), swiftfin.sdf, swiftfin_world.sdf (the model in water, for
-    Gazebo), meshes/<link>_{visual,collision}.obj
+    Gazebo), meshes/<link>_visual.obj, meshes/<link>_collision_<k>.obj (one per part)
     out_dir/mass_properties.json
 
 Everything goes through one :class:`exports.robot_model.Robot` (house style rule 11). The mass properties
@@ -13,7 +13,8 @@ leaves no partial robot folder (files are written to a temporary folder and rena
 
 Meshes: the visual mesh of a link is its parts' tessellation (export tolerances) in the link frame, in metres,
 decimated to ``export.visual_triangle_budget`` triangles (quadric decimation, fast_simplification); the
-collision mesh is the convex hull of the visual mesh. Where the decimator stalls (it will not collapse
+collision meshes are one convex hull per part (a convex decomposition by part: the fin and the tail stem are
+two shapes, not one hull over both). Where the decimator stalls (it will not collapse
 some edges of CAD tessellations) the parts are tessellated again, coarser, until the budget is met.
 """
 from __future__ import annotations
@@ -88,10 +89,18 @@ def link_visual_mesh(parts, meshes: dict, origin_m, budget: int, tolerance_mm: f
     raise BuildError(f"visual mesh: cannot bring {len(parts)} parts under {budget} triangles")
 
 
+def part_collision_hull(mesh, origin_m):
+    """A part's collision shape: the convex hull of its mesh, in the link frame [m]."""
+    m = as_trimesh(mesh).convex_hull
+    v = (np.asarray(m.vertices) - units.length_mm(np.asarray(origin_m))) * units.M_PER_MM
+    return v, np.asarray(m.faces)
+
+
 def _link_mesh_pair(members, meshes: dict, origin_m, budget: int, tol_mm: float, ang_deg: float):
+    """(visual mesh, [one convex hull per part]) of a link, in its frame [m]."""
     visual = link_visual_mesh(members, meshes, origin_m, budget, tol_mm, ang_deg)
-    hull = visual.convex_hull          # of the decimated mesh: a light collision hull
-    return (np.asarray(visual.vertices), np.asarray(visual.faces)), (np.asarray(hull.vertices), np.asarray(hull.faces))
+    hulls = [part_collision_hull(meshes[p.label], origin_m) for p in members]
+    return (np.asarray(visual.vertices), np.asarray(visual.faces)), hulls
 
 
 def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=None,
@@ -111,9 +120,10 @@ def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=
                                     e.mesh_angular_tolerance_deg))
 
     out = {}
-    for lk, (visual, hull) in zip(report.links, map_parts(one, list(report.links), jobs)):
+    for lk, (visual, hulls) in zip(report.links, map_parts(one, list(report.links), jobs)):
         out[visual_mesh_file(lk.name)] = visual
-        out[collision_mesh_file(lk.name)] = hull
+        for k, hull in enumerate(hulls):
+            out[collision_mesh_file(lk.name, k)] = hull
     return out
 
 

@@ -239,9 +239,12 @@ def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfi
             if fin is not None:
                 fluid.append(fin)
         visual = Geometry(f"{lk.name}_visual", "mesh", (), visual_mesh_file(lk.name))
-        collision = Geometry(f"{lk.name}_collision", "mesh", (), collision_mesh_file(lk.name))
+        labels = {part.label for part in parts}
+        n_solid = sum(1 for label in lk.parts if label in labels)           # cables and tubes have no solid
+        collisions = tuple(Geometry(f"{lk.name}_collision_{k}", "mesh", (), collision_mesh_file(lk.name, k))
+                           for k in range(n_solid))
         cob_link = tuple(float(v) for v in np.asarray(cob) - np.asarray(lk.origin_m))
-        links.append(Link(lk.name, lk.inertial, (visual,), (collision,), tuple(fluid), float(V), cob_link,
+        links.append(Link(lk.name, lk.inertial, (visual,), collisions, tuple(fluid), float(V), cob_link,
                           None if water is None else water.shifted(lk.origin_m)))
     from swiftfin.exports.hydro import link_hydrodynamics
 
@@ -271,5 +274,6 @@ def visual_mesh_file(link: str) -> str:
     return f"meshes/{link}_visual.obj"
 
 
-def collision_mesh_file(link: str) -> str:
-    return f"meshes/{link}_collision.obj"
+def collision_mesh_file(link: str, k: int) -> str:
+    """The k-th collision mesh of a link (one convex hull per part, in the order of the link's parts)."""
+    return f"meshes/{link}_collision_{k}.obj"

@@ -61,7 +61,7 @@ def test_files_written(built):
         assert (out / "robot" / name).is_file()
     for lk in res["report"].links:
         assert (out / "robot" / "meshes" / f"{lk.name}_visual.obj").is_file()
-        assert (out / "robot" / "meshes" / f"{lk.name}_collision.obj").is_file()
+        assert (out / "robot" / "meshes" / f"{lk.name}_collision_0.obj").is_file()
     data = json.loads((out / "mass_properties.json").read_text())
     labels = {pt["label"] for pt in data["parts"]}
     assert labels - {pt.label for pt in parts} == ({c.label for c in massprops.cable_masses(p)}
@@ -243,3 +243,31 @@ def test_units_in_the_files_are_si(built):
         assert np.all(np.abs(lk.com_body_m) < L)
     assert 0.01 < res["total_mass_kg"] < 10
     assert math.isfinite(res["buoyancy_n"])
+
+
+def test_collision_shapes_fit_the_parts(built, capsys):
+    """One convex hull per part (issue 15): each link's collision volume (the hulls' volumes added, overlaps
+    counted twice) within 4x its parts' solid volume, and the tail link's, where one hull over the stem and the
+    fin was 6.3x, within 3x. The hulls of hull shells fill the shells: a contact shape of the outside."""
+    import trimesh
+
+    p, parts, out, res = built
+    labels = {pt.label for pt in parts}
+    rows = []
+    for lk in res["report"].links:
+        files = sorted((out / "robot" / "meshes").glob(f"{lk.name}_collision_*.obj"))
+        members = [pt for pt in res["report"].parts if pt.link == lk.index and pt.label in labels]
+        assert len(files) == len(members)
+        meshes = [trimesh.load(f, force="mesh") for f in files]
+        assert all(m.is_watertight and m.is_convex for m in meshes)
+        v_coll = sum(m.volume for m in meshes)
+        v_solid = sum(pt.volume_solid_m3 for pt in members)
+        rows.append((lk.name, len(files), v_coll, v_solid))
+    with capsys.disabled():
+        print("\n  link  | collision shapes | collision cm^3 | solid cm^3 | ratio")
+        for name, n, vc, vs in rows:
+            print(f"  {name:6s}| {n:16d} | {vc * 1e6:14.1f} | {vs * 1e6:10.1f} | {vc / vs:5.2f}")
+    for name, n, vc, vs in rows:
+        assert vc / vs < 4.0, name
+    if "fin_plate" not in labels:                       # the real design (the mini one has a stand-in plate)
+        assert rows[-1][2] / rows[-1][3] < 3.0
