@@ -51,6 +51,26 @@ class Finding:
             d["limit"] = list(self.limit)
         return d
 
+    def value_text(self) -> str:
+        """The value for a person: 4 significant digits, and a value that is zero to rounding (a pitch of 2e-13
+        deg of a level fish) as 0."""
+        if self.value is None:
+            return "-"
+        scale = max([abs(v) for v in (self.limit if isinstance(self.limit, tuple) else (self.limit,))
+                     if v is not None] or [1.0])
+        v = 0.0 if abs(self.value) < 1e-9 * max(scale, 1e-300) else self.value
+        return _g(v)
+
+    def margin_text(self) -> str:
+        """The margin for a person: the relative distance to the limit in percent while it is within 100 %,
+        beyond that how many times the limit the value is (a cable that stretches 849x its allowance reads
+        "849x the limit", not "-84780 %")."""
+        if self.margin is None:
+            return "-"
+        if self.margin < -1.0 and not isinstance(self.limit, tuple) and self.limit:
+            return f"{self.value / self.limit:.3g}x the limit"
+        return f"{100 * self.margin:+.0f} %"
+
     def limit_text(self) -> str:
         if self.limit is None:
             return "-"

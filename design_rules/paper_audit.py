@@ -257,7 +257,7 @@ def audit_entries() -> list[AuditEntry]:
     # ---------------------------------------------------------------- load model vs power
     from swiftfin.layout.loads import joint_loads
     jl = joint_loads(p)
-    add(_e("load_model_power", "Table 2 vs physics/loads.py", "joint mechanical power at 3 Hz, A = 0.10 m, 1.97 m/s",
+    add(_e("load_model_power", "Table 2 vs layout/loads.py", "joint mechanical power at 3 Hz, A = 0.10 m, 1.97 m/s",
            P_W, jl.mean_positive_power_w, "W",
            f"this project's load model (strip added mass, drag, quasi-steady fin) needs "
            f"{jl.mean_positive_power_w / P_W:.0f}x the electric power the paper reports; model-dependent: see "

@@ -101,7 +101,7 @@ class RuleContext:
     @property
     def load_note(self) -> str:
         src = "built parts" if self.link_masses is not None else "hull-shell estimate"
-        return f"load model physics/loads.py at {self.p.swimming.tail_beat_frequency_hz:g} Hz, link masses from {src}"
+        return f"load model layout/loads.py at {self.p.swimming.tail_beat_frequency_hz:g} Hz, link masses from {src}"
 
 
 def _worst(values) -> tuple[int, float]:

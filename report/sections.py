@@ -138,13 +138,14 @@ def rules_section(findings) -> str:
     rows, classes = [], []
     for f in sorted_findings(findings):
         unit = "" if f.unit == "-" else f.unit
-        margin = "&ndash;" if f.margin is None else f"{100 * f.margin:+.1f}&nbsp;%"
+        margin = "&ndash;" if f.margin is None else esc(f.margin_text()).replace(" ", "&nbsp;")
         bar = ""
         if f.margin is not None:
             w = min(100.0, abs(f.margin) * 100.0)
             bar = f'<span class="mbar {"neg" if f.margin < 0 else "pos"}" style="width:{w:.0f}%"></span>'
         detail = f'<div class="detail">{esc(f.detail)}</div>' if f.detail else ""
-        rows.append([f"<code>{esc(f.rule_id)}</code>{detail}", num(f.value, ".4g", unit),
+        value = "&ndash;" if f.value is None else esc(f.value_text()) + (f"&nbsp;{esc(unit)}" if unit else "")
+        rows.append([f"<code>{esc(f.rule_id)}</code>{detail}", value,
                      esc(f.limit_text()) + (f"&nbsp;{esc(unit)}" if unit and f.limit is not None else ""),
                      f'<div class="margin">{margin}{bar}</div>', badge(f.severity.name), esc(f.source)])
         classes.append("row-" + VERDICT_CLASS.get(f.severity.name, "na"))

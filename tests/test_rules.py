@@ -180,3 +180,16 @@ def test_no_nan_over_a_seeded_sweep():
         fs = run_rules(RuleContext(params_from_dict(d)))   # Finding refuses non-finite numbers itself
         assert len(fs) == len(RULES)
         assert all(f.severity is not Severity.NOT_EVALUATED or f.detail for f in fs)
+
+
+def test_values_and_margins_read_as_a_person_would():
+    """A level fish's pitch of 2e-13 deg reads 0; a value 849 times its limit reads "849x the limit", not
+    "-84780 %" (issue 15); within 100 % the margin stays a percentage."""
+    from swiftfin.design_rules.findings import at_most
+
+    tiny = at_most("float.level", 2.1e-13, 5.0, "test", unit="deg")
+    assert tiny.value_text() == "0" and tiny.margin_text() == "+100 %"
+    far = at_most("physics.cable_compliance", 16.98, 0.02, "test")
+    assert far.margin_text() == "849x the limit"
+    near = at_most("x", 1.5, 1.0, "test")
+    assert near.margin_text() == "-50 %"

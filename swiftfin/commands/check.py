@@ -103,8 +103,8 @@ def _fmt(v) -> str:
 def format_table(findings) -> str:
     rows = [("rule", "value", "limit", "margin", "verdict")]
     for f in findings:
-        rows.append((f.rule_id, _fmt(f.value) + ("" if f.unit == "-" or f.value is None else f" {f.unit}"),
-                     f.limit_text(), "-" if f.margin is None else f"{100 * f.margin:+.0f} %", f.severity.name))
+        rows.append((f.rule_id, f.value_text() + ("" if f.unit == "-" or f.value is None else f" {f.unit}"),
+                     f.limit_text(), f.margin_text(), f.severity.name))
     widths = [max(len(r[i]) for r in rows) for i in range(5)]
     lines = []
     for n, r in enumerate(rows):
@@ -162,7 +162,7 @@ def run(args) -> int:
         sens = sensitivity_table(params)
         report["sensitivity"] = sens
         lr = report["loads"]
-        print("\nloads at the design point (physics/loads.py):")
+        print("\nloads at the design point (layout/loads.py):")
         print("  joint  amp[deg]  tau_peak[N m]  T_peak[N]  T_min[N]  motor[N m]  steps/s  route_eff")
         for r in lr["per_joint"]:
             print(f"  {r['joint']:5d}  {r['amplitude_deg']:8.2f}  {r['peak_torque_nm']:13.3f}  {r['peak_tension_n']:9.1f}"
