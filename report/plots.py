@@ -61,12 +61,103 @@ def _style(ax):
     ax.title.set_color(INK)
 
 
+def _line_points_px(ax, per_segment: int = 24) -> np.ndarray:
+    """Every drawn line of ``ax`` as points in display pixels, densified along each segment (so a line that
+    crosses a box without a vertex in it is still seen)."""
+    pts = []
+    for line in ax.get_lines():
+        if not line.get_visible():
+            continue
+        xy = line.get_transform().transform(np.asarray(line.get_xydata(), dtype=float))
+        xy = xy[np.all(np.isfinite(xy), axis=1)]
+        if len(xy) == 1:
+            pts.append(xy)
+        for a, b in zip(xy[:-1], xy[1:]):
+            t = np.linspace(0.0, 1.0, per_segment)[:, None]
+            pts.append(a + t * (b - a))
+    return np.concatenate(pts) if pts else np.zeros((0, 2))
+
+
+def _boxes_meet(a, b) -> bool:
+    return a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1
+
+
+def _legend_conflicts(fig, ax, renderer) -> int:
+    """How much the legend of ``ax`` covers: plotted points under it, plus one for each other axes (with its
+    labels) or own axis label it meets."""
+    leg = ax.get_legend()
+    box = leg.get_window_extent(renderer)
+    pts = _line_points_px(ax)
+    n = int(((pts[:, 0] > box.x0) & (pts[:, 0] < box.x1) & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1)).sum())
+    for other in fig.axes:
+        if other is not ax and _boxes_meet(box, other.get_tightbbox(renderer)):
+            n += 1
+    for axis in (ax.xaxis, ax.yaxis):
+        tb = axis.get_tightbbox(renderer)
+        if tb is not None and _boxes_meet(box, tb):
+            n += 1
+    return n
+
+
+def legend_overlaps(fig) -> list[tuple[str, int]]:
+    """(axes title, what its legend covers) for every legend that covers plotted data, another plot or an
+    axis's labels (see :func:`_legend_conflicts`)."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    out = []
+    for ax in fig.axes:
+        if ax.get_legend() is None:
+            continue
+        n = _legend_conflicts(fig, ax, renderer)
+        if n:
+            out.append((ax.get_title(loc="left") or ax.get_title(), n))
+    return out
+
+
+_LEGEND_SPOTS = ("best", "upper right", "upper left", "lower left", "lower right", "center right", "center left",
+                 "upper center", "lower center")
+
+
+def _place_legends(fig) -> None:
+    """Every legend where it covers no plotted line, no other plot and no axis label: the first free spot
+    inside the axes, else right of them, else below them (the saved picture grows to hold it)."""
+    for ax in fig.axes:
+        leg = ax.get_legend()
+        if leg is None:
+            continue
+        kw = {"fontsize": leg.get_texts()[0].get_fontsize() if leg.get_texts() else 8, "frameon": True,
+              "framealpha": 0.92, "edgecolor": GRID}
+        ncol = getattr(leg, "_ncols", 1)
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        tight = ax.get_tightbbox(renderer)
+        W, H = fig.bbox.width, fig.bbox.height
+        below = (ax.get_position().x0, (tight.y0 - 6) / H)
+        candidates = [dict(loc=spot, ncol=ncol) for spot in _LEGEND_SPOTS]
+        candidates += [dict(loc="upper left", bbox_to_anchor=((tight.x1 + 6) / W, ax.get_position().y1),
+                            bbox_transform=fig.transFigure, borderaxespad=0.0, ncol=1),
+                       dict(loc="upper left", bbox_to_anchor=below, bbox_transform=fig.transFigure,
+                            borderaxespad=0.0, ncol=max(ncol, 2))]
+        best = None
+        for c in candidates:
+            ax.legend(**kw, **c)
+            fig.canvas.draw()
+            n = _legend_conflicts(fig, ax, fig.canvas.get_renderer())
+            if best is None or n < best[0]:
+                best = (n, c)
+            if n == 0:
+                break
+        if best[0]:
+            ax.legend(**kw, **best[1])
+
+
 def _png(fig) -> bytes:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     FigureCanvasAgg(fig)
+    _place_legends(fig)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=DPI, facecolor="white")
+    fig.savefig(buf, format="png", dpi=DPI, facecolor="white", bbox_inches="tight", pad_inches=0.08)
     return buf.getvalue()
 
 

@@ -500,3 +500,26 @@ def test_report_for_build_takes_the_pipeline_result(tmp_path, default_params):
     assert 'id="part-spool_test"' in text and "rotation (180, 0, 0)" in text
     assert "123.4 g" in text and "412&nbsp;g" in text
     assert len(decode_images(text)) == 2 + 2 + 3
+
+
+def test_no_legend_covers_plotted_data(default_params, monkeypatch):
+    """Issue 15: every legend of the report's plots sits where no plotted line runs under it (checked on the
+    figures, in display pixels, along every segment)."""
+    from swiftfin.report import plots
+
+    figures = []
+    real_png = plots._png
+
+    def capture(fig):
+        out = real_png(fig)
+        figures.append(fig)
+        return out
+
+    monkeypatch.setattr(plots, "_png", capture)
+    plots.efficiency_plot(default_params)
+    plots.joint_plot(default_params)
+    plots.wave_plot(default_params)
+    assert len(figures) == 3
+    for fig in figures:
+        assert sum(ax.get_legend() is not None for ax in fig.axes) >= 1
+        assert plots.legend_overlaps(fig) == []
