@@ -106,8 +106,8 @@ def _content_key(spec: PartSpec, brep: bytes) -> str:
 #: the code each later stage's cached results depend on (StageCache): their modules and what they import
 STAGE_MODULES: dict[str, tuple[str, ...]] = {
     "solid_props": ("swiftfin.exports.brep",),
-    "part_mass": ("swiftfin.exports.massprops",),
-    "outside_piece": ("swiftfin.exports.massprops",),
+    "part_mass": ("swiftfin.exports.print_model",),
+    "outside_piece": ("swiftfin.exports.water",),
     "link_mesh": ("swiftfin.exports.robot",),
     "picture": ("swiftfin.report.render",),
     "view_mesh": ("swiftfin.report.render",),

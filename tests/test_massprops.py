@@ -178,7 +178,7 @@ def test_fallback_chain_flags_the_part(pm, monkeypatch):
     """When the layer model fails the next one is used and the part says so."""
     def broken(*a, **k):
         raise ValueError("mesh is not a manifold")
-    monkeypatch.setattr(mp, "layer_core", broken)
+    monkeypatch.setattr("swiftfin.exports.print_model.layer_core", broken)   # find_core looks it up there
     solid = Box(40, 30, 20)
     r = mp.part_mass(PartSpec("block", solid, 0, "test"), pm, mp.tessellate(solid, 0.01, 5), 0.2)
     assert any(f.startswith("core:layers failed") for f in r.flags)

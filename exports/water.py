@@ -1,0 +1,136 @@
+"""Water: the volume the fish displaces, its centre, the water a link holds, and the trim ballast, in SI units.
+
+Buoyancy: the hull is taken as **sealed and skinned** (an assumption: a waterproof skin spans the joint
+gaps and the segments are closed), so the displaced volume is the closed outer envelope of the body from the nose to the hull end
+(the NACA 00xx elliptical sections of layout/geometry.py, integrated numerically, :func:`envelope_volume_mm3`) plus
+the part of the caudal fin behind the hull end (exact B-rep, :func:`_fin_outside_volume`). Water inside the hull is
+not displaced water: it is sealed. A flooded link (``hull.flooded_from_joint``) carries the water inside its
+envelope (:func:`envelope_inertial`). :func:`trim_ballast` sizes and places the lead that makes the fish neutral
+and level. The sum per link is done by :func:`swiftfin.exports.massprops.mass_properties`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from swiftfin.core import units
+from swiftfin.core.schema import Params
+from swiftfin.exports.brep import VolumeProps, _wrapped, solid_volume_props
+from swiftfin.exports.inertia import Inertial, combine, make_inertial
+from swiftfin.exports.line_masses import link_of_station
+from swiftfin.exports.print_model import PartMass, _common, memoized
+from swiftfin.layout import geometry as layout
+
+
+def envelope_section_mm(p: Params, s_mm):
+    """Outer half-width and half-height of the skinned body at station s [mm] (0 outside the hull)."""
+    s = np.asarray(s_mm, dtype=float)
+    inside = (s >= 0) & (s <= layout.hull_end_mm(p))
+    a = np.where(inside, layout.naca_half_width_mm(p, s), 0.0)
+    return a, p.body.height_to_width * a
+
+
+def envelope_volume_mm3(p: Params, s0_mm: float, s1_mm: float, n: int = 4001) -> tuple[float, float]:
+    """Volume [mm^3] and station of the centroid [mm] of the skinned body between two stations (Simpson)."""
+    from scipy.integrate import simpson
+    s = np.linspace(s0_mm, s1_mm, n)
+    a, b = envelope_section_mm(p, s)
+    area = np.pi * a * b
+    V = float(simpson(area, x=s))
+    return V, (float(simpson(area * s, x=s)) / V if V > 0 else 0.5 * (s0_mm + s1_mm))
+
+
+def envelope_inertial(p: Params, s0_mm: float, s1_mm: float, density_kg_m3: float, n: int = 400) -> Inertial:
+    """The hull's closed outer envelope between stations s0 and s1 as a uniform body (elliptical slices of
+    :func:`envelope_section_mm`, each a thin elliptic disc: I_xx = m (a^2 + b^2) / 4, I_yy = m (b^2 / 4 + ds^2 / 12),
+    I_zz = m (a^2 / 4 + ds^2 / 12)), body frame, SI."""
+    edges = np.linspace(s0_mm, s1_mm, n + 1)
+    mids, ds = 0.5 * (edges[1:] + edges[:-1]), (s1_mm - s0_mm) / n
+    a, b = envelope_section_mm(p, mids)
+    a_m, b_m, ds_m = units.length_m(a), units.length_m(b), units.length_m(ds)
+    m = density_kg_m3 * math.pi * a_m * b_m * ds_m
+    items = [make_inertial(mi, (-units.length_m(si), 0.0, 0.0),
+                           np.diag([mi * (ai**2 + bi**2) / 4, mi * (bi**2 / 4 + ds_m**2 / 12),
+                                    mi * (ai**2 / 4 + ds_m**2 / 12)]))
+             for mi, si, ai, bi in zip(m, mids, a_m, b_m) if mi > 0]
+    return combine(items)
+
+
+def trim_ballast(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, flooded_links) -> dict:
+    """The lead ballast that makes the fish neutral (weight = buoyancy) and level (COM under the COB), placed on
+    the hull floor (its lowest inside point, for the largest righting lever).
+
+    Neutral: ``M + m = rho_w (V + v)`` with ``v = m / rho_b`` when the ballast sits in a flooded link (it
+    displaces water) and ``v = 0`` in a sealed one. Level: ``(M x_com + m x) / (M + m) = (V x_cob + v x) / (V + v)``,
+    so ``x = (rho_w V x_cob - M x_com) / (m - rho_w v)``. Returns the numbers and, when no ballast can do it (the
+    fish sinks, or the place falls outside the hull), ``possible`` False and the reason."""
+    rho_w, rho_b = p.environment.water_density_kg_m3, p.environment.ballast_density_kg_m3
+    M, V = float(mass_kg), float(volume_m3)
+    x_com, x_cob = float(com_m[0]), float(cob_m[0])
+    out = {"ballast_density_kg_m3": rho_b, "excess_buoyancy_kg": rho_w * V - M}
+    if rho_w * V - M <= 0:
+        return {**out, "possible": False,
+                "reason": f"the fish sinks by {M - rho_w * V:.4g} kg: ballast cannot trim it (it needs flotation)"}
+    x_m = None
+    for in_flooded in (True, False):
+        m = (rho_w * V - M) / (1.0 - rho_w / rho_b) if in_flooded else rho_w * V - M
+        v = m / rho_b if in_flooded else 0.0
+        x_m = (rho_w * V * x_cob - M * x_com) / (m - rho_w * v)
+        link = link_of_station(p, -1000.0 * x_m)
+        if flooded_links[min(link, len(flooded_links) - 1)] == in_flooded:
+            break
+    s_mm = -1000.0 * x_m
+    r_mm = 1000.0 * (3.0 * m / rho_b / (4.0 * math.pi)) ** (1.0 / 3.0)
+    s_lo, s_hi = 0.0, layout.hull_end_mm(p)
+    a, b = envelope_section_mm(p, s_mm)
+    room = float(min(a, b)) - p.hull.wall_thickness_mm - r_mm
+    out.update({"mass_kg": m, "x_m": x_m, "station_fraction": s_mm / p.body.length_mm, "link": link,
+                "in_flooded_link": bool(flooded_links[min(link, len(flooded_links) - 1)]),
+                "sphere_radius_mm": r_mm})
+    if not (s_lo < s_mm < s_hi) or room <= 0:
+        return {**out, "possible": False,
+                "reason": f"the ballast would have to sit at station {s_mm:.0f} mm ({s_mm / p.body.length_mm:.3f} L), "
+                          f"{'outside the hull' if not (s_lo < s_mm < s_hi) else 'where a sphere of it does not fit'}"}
+    z_m = -units.length_m(float(b) - p.hull.wall_thickness_mm - r_mm)
+    return {**out, "possible": True, "z_m": float(z_m)}
+
+
+def _ballast_part(p: Params, trim: dict) -> PartMass:
+    m, r = trim["mass_kg"], units.length_m(trim["sphere_radius_mm"])
+    c = np.array([trim["x_m"], 0.0, trim["z_m"]])
+    it = make_inertial(m, c, 0.4 * m * r * r * np.eye(3))
+    bbox = (tuple(c - r), tuple(c + r))
+    return PartMass("trim_ballast", int(trim["link"]), "ballast", False,
+                    "computed: lead sphere (environment.ballast_density_kg_m3) that makes the fish neutral and level "
+                    "(exports.massprops.trim_ballast)", (), m / p.environment.ballast_density_kg_m3, 0.0,
+                    m / p.environment.ballast_density_kg_m3, 0.0, it, it, None, None, bbox)
+
+
+def _outside_piece(part, x_end_mm: float, big_mm: float) -> VolumeProps | None:
+    """Volume properties of the part of a solid behind the plane x = x_end (None if none of it is)."""
+    from build123d import Box, Pos
+    cut = Pos(x_end_mm - big_mm / 2, 0, 0) * Box(big_mm, big_mm, big_mm)
+    pr = solid_volume_props(_common(_wrapped(part.solid), cut.wrapped))
+    return pr if pr.volume_mm3 > 0 else None
+
+
+def _fin_outside_volume(p: Params, parts, memo=None, meshes: dict | None = None) -> tuple[float, np.ndarray, int, list]:
+    """Volume [mm^3], centroid [mm] and link of the parts behind the hull end (the caudal fin), and the volume
+    properties of each piece (for the water a flooded link does not carry there)."""
+    x_end = -layout.hull_end_mm(p)
+    V, first, link, pieces = 0.0, np.zeros(3), -1, []
+    for part in parts:
+        mesh = (meshes or {}).get(part.label)
+        x_min = float(mesh.bounds[0][0]) if mesh is not None else part.solid.bounding_box().min.X
+        if x_min - p.export.mesh_tolerance_mm >= x_end:     # the B-rep lies within the mesh tolerance of its mesh
+            continue
+        big = 4.0 * p.body.length_mm
+        pr = memoized(memo, "outside_piece", (part.label,), [x_end, big],
+                      lambda part=part: _outside_piece(part, x_end, big))
+        if pr is not None:
+            V += pr.volume_mm3
+            first = first + pr.volume_mm3 * np.asarray(pr.centroid_mm)
+            link = max(link, part.link)
+            pieces.append(pr)
+    return V, (first / V if V > 0 else first), link, pieces
