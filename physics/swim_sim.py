@@ -1,8 +1,13 @@
 """Swimming run of the generated MJCF in MuJoCo: joints driven by the travelling wave.
 
 The MJCF (exports/mjcf.py) carries water (``<option density viscosity>``, ellipsoid fluid model) and each
-link's buoyancy at its centre of buoyancy (a welded ``<link>_buoyancy`` body with ``gravcomp``), so nothing is
-added at run time: the fish floats, rights itself and swims as the file says.
+link's buoyancy at its centre of buoyancy (a welded ``<link>_buoyancy`` body with ``gravcomp``), so by default
+nothing is added at run time: the fish floats, rights itself and swims as the file says.
+
+``reactive=True`` adds the one force the file cannot carry: Lighthill's (1971) large-amplitude elongated-body
+reactive force at the trailing edge of the caudal fin (:func:`lighthill_edge_force_n`), applied each step through
+``data.xfrc_applied`` beside MuJoCo's own quasi-steady drag, lift and added mass. MuJoCo's fluid model is
+quasi-steady: it has no wake, so it has no shed-momentum (reactive) thrust.
 
 Joint commands: the relative joint angles of the travelling wave (physics.kinematics, eq. 43-47 in relative
 form), faded in over ``ramp_s`` (the paper's start-up transient is 0.5-1 s), fed to the position actuators.
@@ -42,6 +47,7 @@ class SwimResult:
     finite: bool                  # no NaN/inf in the state at any step
     warnings: dict                # MuJoCo warning counters that fired {name: count}
     planar: bool = False
+    reactive_force_n: np.ndarray | None = None   # Lighthill's force at the fin's edge (world), per sample; None: off
 
     def window(self, t0_s: float | None = None) -> np.ndarray:
         """Samples from ``t0_s`` (default: half the run) to the end."""
@@ -119,7 +125,8 @@ class WaveDrive:
 def swim(model_path: str, params, frequency_hz: float | None = None, duration_s: float = 2.0,
          ramp_s: float = 0.5, amplitude_scale: float = 1.0, sample_every: int = 10, trim_neutral: bool = True,
          phase_lag_rad=None, initial_speed_m_s: float = 0.0, gravity: bool = True,
-         planar: bool = False, added_mass: bool = True, initial_quat=None) -> SwimResult:
+         planar: bool = False, added_mass: bool = True, initial_quat=None, reactive: bool = False,
+         reactive_geom: str = "caudal_fin_fluid") -> SwimResult:
     """Run the fish in MuJoCo for ``duration_s`` with the wave at ``frequency_hz`` (default: design).
 
     ``trim_neutral``: scale every link's buoyancy by one factor so that buoyancy equals weight, as ballast
@@ -129,6 +136,11 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
     forward (+x) at this speed. ``initial_quat``: the free fish's starting orientation (w, x, y, z). ``gravity`` False: no gravity and no buoyancy (a control run). ``planar``: see
     the module docstring. ``added_mass`` False: a diagnosis only, never a result: the virtual mass of every
     fluid geom zeroed, which removes MuJoCo's half of the added-mass force (see :func:`fluid_force_terms`).
+
+    ``reactive``: add Lighthill's reactive force at the trailing edge of ``reactive_geom`` (the caudal fin's thin
+    fluid ellipsoid) every step (:class:`ReactiveFin`), beside MuJoCo's own fluid forces. Off by default, so that
+    :func:`swim` is the exported file as any MuJoCo user runs it (the file cannot carry a state-dependent force);
+    on, it is this project's swimming model, stated by the caller.
     """
     import mujoco
     model = load_model(model_path, planar)
@@ -148,9 +160,11 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
             raise ValueError("initial_quat needs the free joint (planar=False)")
         data.qpos[3:7] = np.asarray(initial_quat, dtype=float)
     drive = WaveDrive(model, params, frequency_hz, ramp_s, amplitude_scale, phase_lag_rad)
+    fin = ReactiveFin(model, reactive_geom) if reactive else None
     head = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, "head")
     steps = int(round(duration_s / model.opt.timestep))
-    ts, head_x, com_x, q, cmd, axis = [], [], [], [], [], []
+    ts, head_x, com_x, q, cmd, axis, fr = [], [], [], [], [], [], []
+    force = np.zeros(3)
     finite = True
     M = model.body_mass[1:].sum()
     for k in range(steps + 1):
@@ -165,16 +179,115 @@ def swim(model_path: str, params, frequency_hz: float | None = None, duration_s:
             com_x.append((model.body_mass[1:, None] * data.xipos[1:]).sum(axis=0) / M)
             q.append(data.qpos[drive.qadr].copy())
             cmd.append(data.ctrl[drive.act].copy())
+            fr.append(force.copy())
         if k == steps:
             break
-        mujoco.mj_step(model, data)
+        if fin is None:
+            mujoco.mj_step(model, data)
+        else:
+            # the force of this step's state: positions and velocities first, then the force, then the step
+            mujoco.mj_step1(model, data)
+            force = fin.apply(model, data)
+            mujoco.mj_step2(model, data)
         if not (np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))):
             finite = False
             break
     warn = {mujoco.mjtWarning(i).name: int(data.warning[i].number) for i in range(len(data.warning))
             if data.warning[i].number}
     return SwimResult(drive.frequency_hz, duration_s, np.asarray(ts), np.asarray(head_x), np.asarray(com_x),
-                      np.asarray(axis), np.asarray(q), np.asarray(cmd), finite, warn, planar)
+                      np.asarray(axis), np.asarray(q), np.asarray(cmd), finite, warn, planar,
+                      np.asarray(fr) if reactive else None)
+
+
+# ------------------------------------------------------------------------------------ reactive (Lighthill)
+def added_mass_per_length_kg_m(density_kg_m3: float, span_m: float) -> float:
+    """Lateral added mass per unit length of a flat cross-section of span ``span_m`` [kg/m]: rho pi (s/2)^2,
+    the mass of water in the circle circumscribing the section (Lighthill 1960 and 1971; the potential-flow added
+    mass of a flat plate moving normal to itself)."""
+    return float(density_kg_m3) * np.pi * (float(span_m) / 2.0) ** 2
+
+
+def lighthill_edge_force_n(added_mass_kg_m: float, velocity_m_s, tangent, span_axis=(0.0, 0.0, 1.0)):
+    """Lighthill's large-amplitude reactive force on the fish at its trailing edge [N] (world vectors).
+
+    Lighthill, M. J. (1971) Large-amplitude elongated-body theory of fish locomotion. Proc. R. Soc. Lond. B
+    179, 125-138 (eq. 8-9 in vector form). Derivation: the water beside each cross-section carries the
+    momentum m w n per unit length (m the lateral added mass per length, n the unit normal to the body in the
+    plane of the motion, w = V . n the body's velocity relative to the water along n). Take the momentum
+    balance of the water in a volume that ends in a plane through the trailing edge, normal to the body
+    (tangent tau, pointing forward). That plane moves forward relative to the water at the edge's tangential
+    speed u = V . tau, so it leaves the momentum m w n behind in the wake at the rate u: a force -m w u n on
+    the fish. The pressure of the lateral flow on that plane (Bernoulli, -1/2 rho |grad phi|^2 integrated over
+    the section: 1/2 m w^2) pushes the fish along +tau. Hence, at the edge,
+
+        F = m w (1/2 w tau - u n),      m = rho pi (s/2)^2,   w = V . n,   u = V . tau,
+
+    the momentum shed into the wake, with Lighthill's third term -d/dt int m w n ds (the rate of change of the
+    momentum the water holds beside the body) left to MuJoCo's added-mass model (its mean over a period of a
+    periodic motion is zero). F is even in n, so either normal will do. For a small travelling wave
+    h(x, t) (x from the nose back, swimming forward at U): w = dh/dt + U dh/dx and the mean along the swimming
+    direction is Lighthill's (1960) T = 1/2 m [<(dh/dt)^2> - U^2 <(dh/dx)^2>] at the edge; F = 0 when the
+    wave runs back at the swimming speed (w = 0).
+
+    Parameters
+    ----------
+    added_mass_kg_m : float  m at the trailing edge [kg/m] (:func:`added_mass_per_length_kg_m`).
+    velocity_m_s : (3,) or (N, 3)  velocity of the trailing edge relative to the water far away [m/s].
+    tangent : (3,) or (N, 3)  the body's tangent at the edge, pointing forward (toward the head) [-].
+    span_axis : (3,) or (N, 3)  the span direction of the edge (vertical for a caudal fin) [-]; the motion
+        along it is outside the theory (a 2-D cross-flow in each section) and gives no force.
+
+    Returns
+    -------
+    (3,) or (N, 3)  the force on the fish [N], to be applied at the trailing edge.
+    """
+    V = np.asarray(velocity_m_s, dtype=float)
+    e = np.asarray(span_axis, dtype=float)
+    e = e / np.linalg.norm(e, axis=-1, keepdims=True)
+    tau = np.asarray(tangent, dtype=float)
+    tau = tau - (tau * e).sum(axis=-1, keepdims=True) * e            # in the plane of the motion
+    tau = tau / np.linalg.norm(tau, axis=-1, keepdims=True)
+    n = np.cross(e, tau)
+    w = (V * n).sum(axis=-1, keepdims=True)
+    u = (V * tau).sum(axis=-1, keepdims=True)
+    return added_mass_kg_m * w * (0.5 * w * tau - u * n)
+
+
+class ReactiveFin:
+    """Lighthill's reactive force at the trailing edge of one thin fluid ellipsoid (the caudal fin's), applied
+    to its body each step through ``data.xfrc_applied`` (world frame, at the body's COM: the force, and the
+    moment of its offset from the COM to the edge).
+
+    The ellipsoid's axes are the fin's: +x the chord toward the head (its -x end is the trailing edge), y the
+    thickness, z the span (its full span 2 size_z sets m). Needs the positions and velocities of the current
+    state (after ``mj_step1`` or ``mj_forward``)."""
+
+    def __init__(self, model, geom: str = "caudal_fin_fluid"):
+        import mujoco
+        self.gid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, geom)
+        if self.gid < 0:
+            raise ValueError(f"no geom {geom!r} in the model for the reactive force")
+        self.body = int(model.geom_bodyid[self.gid])
+        self.chord_half_m = float(model.geom_size[self.gid, 0])
+        self.added_mass_kg_m = added_mass_per_length_kg_m(model.opt.density, 2.0 * model.geom_size[self.gid, 2])
+
+    def edge(self, model, data):
+        """Trailing edge: position, velocity [m, m/s], forward tangent and span axis, in the world."""
+        import mujoco
+        R = data.geom_xmat[self.gid].reshape(3, 3)
+        c = data.geom_xpos[self.gid]
+        te = c - R[:, 0] * self.chord_half_m
+        v = np.zeros(6)
+        mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_GEOM, self.gid, v, 0)   # [ang, lin] at c, world
+        return te, v[3:] + np.cross(v[:3], te - c), R[:, 0].copy(), R[:, 2].copy()
+
+    def apply(self, model, data) -> np.ndarray:
+        """Set the body's ``xfrc_applied`` to the force at the edge; returns the force [N] (world)."""
+        te, v, tau, span = self.edge(model, data)
+        f = lighthill_edge_force_n(self.added_mass_kg_m, v, tau, span)
+        data.xfrc_applied[self.body, :3] = f
+        data.xfrc_applied[self.body, 3:] = np.cross(te - data.xipos[self.body], f)
+        return f
 
 
 # ----------------------------------------------------------------------------------------------- diagnosis
@@ -196,7 +309,7 @@ class ThrustTerms:
     speed_m_s: float                  # mean forward speed over the window
     total_n: float                    # MuJoCo, all terms together
     terms_n: dict                     # MuJoCo, one term at a time (FLUID_TERMS)
-    lighthill_n: float                # 1/2 m_a <w^2 - U^2 h'^2> at the trailing edge
+    lighthill_n: float                # 1/2 m_a <(dh/dt)^2 - U^2 h'^2> at the trailing edge (Lighthill 1960)
     te_lateral_rms_m_s: float         # rms lateral speed of the trailing edge
     added_mass_per_length_kg_m: float  # m_a = rho pi (span/2)^2
     pitch_heave_correlation: float    # corr(sin yaw of the geom, its lateral speed)
@@ -212,9 +325,11 @@ def fluid_force_terms(model_path, params, frequency_hz: float | None = None, dur
     fluid geom keeps its interaction flag with zero coefficients (so that its body stays on the ellipsoid
     model and adds only the negligible Stokes term): the force of the run's own state, step by step.
 
-    Lighthill (1971), reactive thrust of an elongated body at the trailing edge:
-    T = 1/2 m_a <w^2 - U^2 h'^2>, w = dh/dt + U h' (lateral water speed at the edge, U forward), with
-    m_a = rho pi (s/2)^2 the lateral added mass per unit length of the edge of span s and h' the edge's slope.
+    Lighthill (1960; 1971 for large amplitude), mean reactive thrust of an elongated body at the trailing edge:
+    T = 1/2 m_a <(dh/dt)^2 - U^2 h'^2> (U forward, h' the edge's slope toward the tail), with
+    m_a = rho pi (s/2)^2 the lateral added mass per unit length of the edge of span s: the mean along the
+    heading of :func:`lighthill_edge_force_n`, m_a w (1/2 w - U h') with w = dh/dt + U h' for small slopes.
+    (Until issue 15 this read 1/2 m_a <w^2 - U^2 h'^2>, which is short by m_a U <dh/dt h'>.)
     """
     import mujoco
     model = load_model(model_path, planar=True)
@@ -276,9 +391,7 @@ def fluid_force_terms(model_path, params, frequency_hz: float | None = None, dur
     # h' = dh/dx along the body toward the tail; the geom's +x points to the head, so the slope toward the
     # tail is -(sin of its yaw) in the fish's lateral direction
     h_prime = -slope
-    w = hdot + U * h_prime
-    span = 2.0 * float(model.geom_size[gid, 2])
-    m_a = float(model.opt.density) * np.pi * (span / 2) ** 2
+    m_a = added_mass_per_length_kg_m(model.opt.density, 2.0 * float(model.geom_size[gid, 2]))
     # The added-mass (Kirchhoff) force of a rigid body in potential flow is F = -dP/dt with P = R (rho m_v v)
     # its fluid impulse (world frame): -R (rho m_v dv/dt) + R ((rho m_v v) x omega). MuJoCo keeps the second
     # term only (its passive forces cannot depend on accelerations); the first, omitted, is -dP/dt minus the
@@ -289,7 +402,7 @@ def fluid_force_terms(model_path, params, frequency_hz: float | None = None, dur
     omitted = full - forces["added_mass"]
     return ThrustTerms(drive.frequency_hz, U, float(np.mean(forces["total"])),
                        {k: float(np.mean(v)) for k, v in forces.items() if k != "total"},
-                       float(0.5 * m_a * np.mean(w**2 - U**2 * h_prime**2)), float(np.sqrt(np.mean(hdot**2))),
+                       float(0.5 * m_a * np.mean(hdot**2 - U**2 * h_prime**2)), float(np.sqrt(np.mean(hdot**2))),
                        m_a, correlation(slope, rows[:, 3]), float(np.mean(omitted)))
 
 
