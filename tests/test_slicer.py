@@ -88,7 +88,7 @@ def test_slicer_failure_is_a_clear_error(tmp_path):
     bad.write_bytes(b"solid nothing here\n")
     with pytest.raises(SlicerError, match="broken.stl: prusa-slicer failed"):
         slice_stl(bad, Params())
-    with pytest.raises(SlicerError, match="no such STL"):
+    with pytest.raises(SlicerError, match="no such file"):
         slice_stl(tmp_path / "missing.stl", Params())
 
 
