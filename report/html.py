@@ -30,6 +30,7 @@ from swiftfin import __version__
 from swiftfin.core.schema import Params
 from swiftfin.report.assets import CSS, FAMILY_COLORS, OTHER_COLOR
 from swiftfin.report.markup import esc
+from swiftfin.report.robot import robot_section
 from swiftfin.report.sections import (FIT_REPORT_NAME, MASS_PROPERTIES_NAME, assembly_section, audit_section,
                                       fit_section, mass_section, overview_section, parts_section, plot_section,
                                       rules_section, sorted_findings)
@@ -41,7 +42,7 @@ __all__ = ["ASSEMBLY_VIEW_FACE_FRACTION", "FIT_REPORT_NAME", "MASS_PROPERTIES_NA
 REPORT_NAME = "report.html"
 
 SECTIONS = (("overview", "Overview"), ("assembly", "Assembly"), ("parts", "Parts"), ("rules", "Design rules"),
-            ("mass", "Mass"), ("efficiency", "Efficiency"), ("tailbeat", "Tail-beat"), ("wave", "Body wave"),
+            ("mass", "Mass"), ("robot", "Robot"), ("efficiency", "Efficiency"), ("tailbeat", "Tail-beat"), ("wave", "Body wave"),
             ("audit", "Paper audit"), ("fit", "Fit"))
 
 
@@ -152,7 +153,7 @@ class ReportTiming:
 def build_page(params: Params, parts=None, mass_properties: dict | None = None, fit_dir=None, *, findings,
                audit, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
                mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None,
-               jobs: int | None = 1) -> str:
+               jobs: int | None = 1, robot_dir: Path | None = None) -> str:
     """The report page as a string (see :func:`write_report`)."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
@@ -172,6 +173,14 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
         plots = plot_fn(params)
     eff, beat, wave = plots
     timing.plots_s = time.perf_counter() - t0
+    robot_pic = None
+    if robot_dir is not None and (robot_dir / "swiftfin.urdf").is_file():
+        from swiftfin.report.render import png_bytes, render
+        from swiftfin.report.robot import read_robot, robot_items
+
+        progress("rendering the robot's collision shapes, joint axes and link frames")
+        robot_pic = png_bytes(render(robot_items(read_robot(robot_dir)), 1200, 430, azimuth_deg=62,
+                                     elevation_deg=22))
     progress("writing the page")
     body = {
         "overview": overview_section(params, rparts, mass_properties, findings, audit, params_name),
@@ -179,6 +188,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
         "parts": parts_section(params, rparts, part_pics, mass_properties),
         "rules": rules_section(findings),
         "mass": mass_section(params, mass_properties, mass_note),
+        "robot": robot_section(robot_dir, robot_pic),
         "efficiency": plot_section(eff, "transmission efficiency against frequency"),
         "tailbeat": plot_section(beat, "joint angles and step rates over one tail-beat"),
         "wave": plot_section(wave, "body wave envelope"),
@@ -217,14 +227,16 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     ``mass_properties``: the content of ``mass_properties.json`` (None: the page says it was not computed);
     ``fit_dir``: a ``swiftfin fit`` output folder; ``findings`` / ``audit``: the design rules' findings and the
     paper audit's entries, computed by the caller (the report shows, it does not compute); ``plots``: the
-    (efficiency, tail-beat, wave) plots of :func:`standard_plots` when the caller has them (its cache).
+    (efficiency, tail-beat, wave) plots of :func:`standard_plots` when the caller has them (its cache). The robot
+    section reads ``out_dir/robot/`` when the folder holds a build's simulator files.
     The file is written to a temporary name and renamed, so a failed report never leaves half a page.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    robot_dir = out / "robot" if (out / "robot" / "swiftfin.urdf").is_file() else None
     page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
                       params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots,
-                      jobs=jobs)
+                      jobs=jobs, robot_dir=robot_dir)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")

@@ -523,3 +523,31 @@ def test_no_legend_covers_plotted_data(default_params, monkeypatch):
     for fig in figures:
         assert sum(ax.get_legend() is not None for ax in fig.axes) >= 1
         assert plots.legend_overlaps(fig) == []
+
+
+def test_robot_section_reads_the_simulator_files(tmp_path, default_params):
+    """Issue 15: the page's robot section shows what the simulator files say, read back from them: a picture
+    of the collision shapes with the joint axes, each link's mass, buoyancy volume, collision shapes and added
+    mass, each joint's axis and range (the mini stand-in robot, exported here)."""
+    from swiftfin.exports.robot import write_robot
+    from swiftfin.report.robot import read_robot
+    from tests.robot_helpers import mini_parts
+
+    p = default_params
+    res = write_robot(p, mini_parts(p), tmp_path)
+    robot = read_robot(tmp_path / "robot")
+    assert list(robot["links"]) == [lk.name for lk in res["robot"].links]
+    for lk in res["robot"].links:
+        got = robot["links"][lk.name]
+        assert got["mass_kg"] == pytest.approx(lk.inertial.mass_kg, rel=1e-12)
+        assert got["buoyancy_volume_m3"] == pytest.approx(lk.displaced_volume_m3, rel=1e-9)
+        assert got["hydro"]["yDotV"] == pytest.approx(lk.hydro.as_fossen()["yDotV"], rel=1e-12)
+        assert all(path.is_file() for path in got["collisions"])
+    assert [j["name"] for j in robot["joints"]] == [f"joint_{j + 1}" for j in range(p.joints.count)]
+    text = write_report(p, tmp_path, findings=fake_findings(), audit=paper_audit()).read_text()
+    section = text[text.index('<section id="robot">'):text.index("</section>", text.index('<section id="robot">'))]
+    assert len(decode_images(section)) == 1
+    assert "joint_1" in section and "head" in section and "collision shapes" in section
+    # without simulator files the section says so instead
+    bare = write_report(p, tmp_path / "bare", findings=fake_findings(), audit=paper_audit()).read_text()
+    assert "needs a build" in bare[bare.index('<section id="robot">'):]
