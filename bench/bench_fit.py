@@ -149,7 +149,7 @@ def main():
     for t, s, e, ind, sn in rows:
         tag = f"{e}" + (f" ~{'/'.join(ind)}" if ind else "")
         print(f"   {t:18s} {s:4d}  {tag:34s} {sn[kbest]}")
-    print(f"\n   correct-effect rate (twin counted when reported indistinguishable / for pysindy: always):")
+    print("\n   correct-effect rate (twin counted when reported indistinguishable / for pysindy: always):")
     print(f"     engine : {eng}/{n} = {100 * eng / n:.0f} %  (exact name {eng_exact}/{n}); "
           f"{te / n:.2f} s per log")
     for k, th in enumerate(thresholds):

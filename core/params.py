@@ -271,7 +271,7 @@ def cross_field_problems(p: Params) -> list[Problem]:
                            f"must be below cable.breaking_strength_n ({c.breaking_strength_n:g})"))
     if j.pin_diameter_mm >= 2 * j.tendon_moment_arm_mm - 2 * c.diameter_mm:
         out.append(Problem("joints.pin_diameter_mm", j.pin_diameter_mm,
-                           f"the hinge pin must be smaller than the tendon sector (2 x tendon_moment_arm_mm)"))
+                           "the hinge pin must be smaller than the tendon sector (2 x tendon_moment_arm_mm)"))
     if pr.line_width_mm < pr.nozzle_diameter_mm * 0.8 or pr.line_width_mm > pr.nozzle_diameter_mm * 2.5:
         out.append(Problem("print.line_width_mm", pr.line_width_mm,
                            f"expected 0.8-2.5 x print.nozzle_diameter_mm ({pr.nozzle_diameter_mm:g})"))

@@ -5,6 +5,8 @@
     out_dir/robot/swiftfin.urdf, swiftfin.xml (MJCF), swiftfin.sdf, swiftfin_world.sdf (the model in water, for
     Gazebo), meshes/<link>_visual.obj, meshes/<link>_collision_<k>.obj (one per part)
     out_dir/mass_properties.json
+    with ``ros2_package=True`` also out_dir/robot/swiftfin_description/: a ROS 2 description package of the same
+    URDF and meshes (package.xml, CMakeLists.txt, urdf/, meshes/, README.md; exports/ros_package.py)
 
 Everything goes through one :class:`exports.robot_model.Robot` (house style rule 11). The mass properties
 pass the gate of :func:`exports.massprops.validate` first, and the MJCF is compiled by MuJoCo before anything
@@ -30,6 +32,7 @@ from swiftfin.core import units
 from swiftfin.exports import massprops
 from swiftfin.exports.mjcf import mjcf_bytes
 from swiftfin.exports.parallel import map_parts
+from swiftfin.exports.ros_package import DEFAULT_PACKAGE, ros_package_files
 from swiftfin.exports.robot_model import Robot, collision_mesh_file, robot_from_design, visual_mesh_file
 from swiftfin.exports.sdf import sdf_bytes, world_bytes
 from swiftfin.exports.urdf import urdf_bytes
@@ -143,12 +146,15 @@ def check_mjcf(folder: Path, xml_name: str, robot: Robot, water_density_kg_m3: f
 
 
 def write_robot(params, parts, out_dir, meshes: dict | None = None,
-                report: massprops.MassReport | None = None, memo=None, jobs: int | None = 1) -> dict:
+                report: massprops.MassReport | None = None, memo=None, jobs: int | None = 1,
+                ros2_package: bool = False) -> dict:
     """Mass properties, gate, robot model and simulator files of a design. Returns a summary dict.
 
     ``parts``: the design's PartSpecs; ``meshes``: optional {label: mesh in mm} (exports.files.Mesh or trimesh),
     the tessellations already made for the STL files (tessellated here otherwise); ``memo``: the application's
-    store of per-part and per-link results (:func:`swiftfin.exports.massprops.memoized`).
+    store of per-part and per-link results (:func:`swiftfin.exports.massprops.memoized`); ``ros2_package``: also
+    write ``robot/swiftfin_description/``, a ROS 2 description package (:func:`exports.ros_package.ros_package_files`).
+    The summary's ``files`` lists every file written, relative to ``out_dir``.
     """
     e = params.export
     missing = sorted(set(range(params.joints.count + 1)) - {part.link for part in parts})
@@ -169,13 +175,20 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
     tmp = Path(tempfile.mkdtemp(prefix=".robot-", dir=out_dir))
     try:
         (tmp / "meshes").mkdir()
+        mesh_bytes = {}
         for name, (v, f) in link_meshes(params, report, meshes, parts, memo, jobs).items():
-            (tmp / name).write_bytes(obj_bytes(v, f, f"swiftfin {name} (m, link frame)"))
+            mesh_bytes[name] = obj_bytes(v, f, f"swiftfin {name} (m, link frame)")
+            (tmp / name).write_bytes(mesh_bytes[name])
         (tmp / f"{ROBOT_NAME}.urdf").write_bytes(urdf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.xml").write_bytes(mjcf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.sdf").write_bytes(sdf_bytes(robot))
         (tmp / f"{ROBOT_NAME}_world.sdf").write_bytes(world_bytes(robot))
         check_mjcf(tmp, f"{ROBOT_NAME}.xml", robot, params.environment.water_density_kg_m3)
+        if ros2_package:
+            for rel, data in ros_package_files(robot, mesh_bytes, DEFAULT_PACKAGE).items():
+                path = tmp / DEFAULT_PACKAGE / rel
+                path.parent.mkdir(parents=True, exist_ok=True)
+                path.write_bytes(data)
         data = massprops.report_to_dict(params, report)
         data["checks"] = checks
         text = json.dumps(data, indent=1) + "\n"

@@ -1,7 +1,8 @@
 """URDF writer (xml.etree) for an :class:`exports.robot_model.Robot`.
 
 Inertial origin at the link COM with ``rpy="0 0 0"`` and the full tensor in link axes; joint origins are
-``T_parent_child``; meshes are OBJ files in metres, referenced relative to the URDF. The cable tendons have no
+``T_parent_child``; meshes are OBJ files in metres, referenced relative to the URDF (or, with ``mesh_uri_prefix``,
+by URI: ``package://<pkg>/`` for a ROS 2 description package, exports/ros_package.py). The cable tendons have no
 URDF element (they live in the MJCF). Water: a ``<gazebo>`` extension block per link carries Gazebo's
 Hydrodynamics system with the link's added mass and damping (exports/hydro.py), as gz-sim reads it when it
 loads a URDF; buoyancy in Gazebo needs the collision volumes of the SDF (exports/sdf.py), since the URDF's
@@ -27,10 +28,10 @@ def _origin(parent: ET.Element, pose: Pose) -> None:
     ET.SubElement(parent, "origin", xyz=fmt(*pose.xyz_m), rpy=fmt(*pose.rpy_rad))
 
 
-def _geometry(parent: ET.Element, g: Geometry) -> None:
+def _geometry(parent: ET.Element, g: Geometry, mesh_uri_prefix: str = "") -> None:
     geo = ET.SubElement(parent, "geometry")
     if g.kind == "mesh":
-        ET.SubElement(geo, "mesh", filename=g.mesh_file)
+        ET.SubElement(geo, "mesh", filename=mesh_uri_prefix + g.mesh_file)
     elif g.kind == "box":
         ET.SubElement(geo, "box", size=fmt(*g.size_m))
     elif g.kind == "cylinder":
@@ -41,7 +42,10 @@ def _geometry(parent: ET.Element, g: Geometry) -> None:
         raise ValueError(f"URDF has no {g.kind} geometry ({g.name})")
 
 
-def urdf_tree(robot: Robot) -> ET.ElementTree:
+def urdf_tree(robot: Robot, mesh_uri_prefix: str = "") -> ET.ElementTree:
+    """The URDF of ``robot``. ``mesh_uri_prefix`` is put before every mesh file name (which is relative to the
+    robot folder, ``meshes/<link>_visual.obj``): "" keeps them relative to the URDF; ``package://<pkg>/`` makes
+    them ROS package URIs."""
     root = ET.Element("robot", name=robot.name)
     for lk in robot.links:
         el = ET.SubElement(root, "link", name=lk.name)
@@ -54,11 +58,11 @@ def urdf_tree(robot: Robot) -> ET.ElementTree:
         for g in lk.visuals:
             v = ET.SubElement(el, "visual", name=g.name)
             _origin(v, g.T_link_geom)
-            _geometry(v, g)
+            _geometry(v, g, mesh_uri_prefix)
         for g in lk.collisions:
             c = ET.SubElement(el, "collision", name=g.name)
             _origin(c, g.T_link_geom)
-            _geometry(c, g)
+            _geometry(c, g, mesh_uri_prefix)
     for jt in robot.joints:
         el = ET.SubElement(root, "joint", name=jt.name, type="revolute")
         _origin(el, jt.T_parent_child)
@@ -82,5 +86,5 @@ def urdf_tree(robot: Robot) -> ET.ElementTree:
     return ET.ElementTree(root)
 
 
-def urdf_bytes(robot: Robot) -> bytes:
-    return ET.tostring(urdf_tree(robot).getroot(), encoding="utf-8", xml_declaration=True) + b"\n"
+def urdf_bytes(robot: Robot, mesh_uri_prefix: str = "") -> bytes:
+    return ET.tostring(urdf_tree(robot, mesh_uri_prefix).getroot(), encoding="utf-8", xml_declaration=True) + b"\n"

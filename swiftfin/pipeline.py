@@ -238,10 +238,10 @@ def assembly_step(result: BuildResult) -> bytes:
 
 def write_outputs(result: BuildResult, folder: Path, params_file: Path,
                   progress: Callable[[str], None] | None = None, params_sha256: str | None = None,
-                  cache: FamilyCache | None = None) -> dict:
+                  cache: FamilyCache | None = None, ros2_package: bool = False) -> dict:
     """Write every file of the build into ``folder`` (which exists and is empty): the parts, the assembly, the
-    robot for the simulators with ``mass_properties.json`` (exports.robot) and ``report.html``. Returns the
-    manifest, which lists them all."""
+    robot for the simulators with ``mass_properties.json`` (exports.robot; with ``ros2_package`` also its ROS 2
+    description package) and ``report.html``. Returns the manifest, which lists them all."""
     (folder / "parts").mkdir()
     files = []
     parts = []
@@ -261,7 +261,7 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
     data = assembly_step(result)
     (folder / "assembly.step").write_bytes(data)
     files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
-    files += write_robot_and_report(result, folder, params_file, progress, cache)
+    files += write_robot_and_report(result, folder, params_file, progress, cache, ros2_package=ros2_package)
     manifest = make_manifest(files, parts, params_file, params_sha256)
     (folder / MANIFEST_NAME).write_text(manifest_text(manifest))
     return manifest
@@ -269,7 +269,7 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
 
 def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
                            progress: Callable[[str], None] | None = None,
-                           cache: FamilyCache | None = None) -> list[dict]:
+                           cache: FamilyCache | None = None, ros2_package: bool = False) -> list[dict]:
     """Mass properties with their validation gate, the simulator files (exports.robot) and report.html, into
     ``folder``; returns their manifest entries. BuildError names the part or link that fails the gate."""
     from swiftfin.exports.robot import write_robot
@@ -277,7 +277,8 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
         progress("  mass properties, validation gate and simulator files ...")
     memo = stage_memo(result, cache)
     robot = write_robot(result.params, [b.spec for b in result.parts], folder,
-                        meshes={b.spec.label: b.export.mesh for b in result.parts}, memo=memo, jobs=build_jobs())
+                        meshes={b.spec.label: b.export.mesh for b in result.parts}, memo=memo, jobs=build_jobs(),
+                        ros2_package=ros2_package)
     if progress:
         progress("  design report ...")
     plots = None
@@ -294,11 +295,12 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
 
 
 def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | None = None,
-          progress: Callable[[str], None] | None = None) -> BuildResult:
+          progress: Callable[[str], None] | None = None, ros2_package: bool = False) -> BuildResult:
     """Build the design in ``params_file`` into ``out_dir`` (see the module docstring and swiftfin/outdir.py).
 
     The parameter file is read once: the parts are made from, and the manifest hashes, the bytes parsed.
     ``out_dir`` is checked before any work and replaced only if it holds a previous build and nothing else.
+    ``ros2_package``: also write ``robot/swiftfin_description/``, a ROS 2 description package (exports.robot).
     """
     from swiftfin.layout.design import load_design_source
 
@@ -314,7 +316,8 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
         if progress:
             progress("  checking the assembly over the joints' range of motion ...")
         check_built(result, cache, progress)
-        write_outputs(result, tmp, params_file, progress, params_sha256=sha256_bytes(raw), cache=cache)
+        write_outputs(result, tmp, params_file, progress, params_sha256=sha256_bytes(raw), cache=cache,
+                      ros2_package=ros2_package)
         outdir.swap_into_place(tmp, out, keep)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)

@@ -4,7 +4,6 @@ closed forms (Lamb's k1, the strip integrals' ratio, neutral buoyancy of the tri
 from __future__ import annotations
 
 import math
-import shutil
 import subprocess
 import xml.etree.ElementTree as ET
 from pathlib import Path

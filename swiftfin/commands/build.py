@@ -14,6 +14,9 @@ def configure(ap) -> None:
     ap.add_argument("--cache-dir", default=None,
                     help="rebuild cache (default: $SWIFTFIN_CACHE_DIR or .cache/swiftfin/ here)")
     ap.add_argument("--no-cache", action="store_true", help="build every part afresh; do not read or write the cache")
+    ap.add_argument("--ros2-package", action="store_true",
+                    help="also write robot/swiftfin_description/: a ROS 2 description package (package.xml, "
+                         "CMakeLists.txt, the URDF with package:// mesh URIs, the meshes; no launch files)")
     ap.set_defaults(func=run)
 
 
@@ -23,7 +26,8 @@ def run(args) -> int:
 
     cache = None if args.no_cache else FamilyCache(args.cache_dir)
     print(f"swiftfin build: {args.params_file} -> {args.out}/", file=sys.stderr, flush=True)
-    result = build(args.params_file, args.out, cache=cache, progress=stderr_progress)
+    result = build(args.params_file, args.out, cache=cache, progress=stderr_progress,
+                   ros2_package=args.ros2_package)
     print(summary_table(result))
     import json
     listed = json.loads((Path(args.out) / "manifest.json").read_text())["files"]
