@@ -76,6 +76,22 @@ class SwimResult:
         return np.mod(lag - lag[0], 2 * np.pi)
 
 
+#: Published thunniform swimmers' stride lengths U / (f L) [body lengths per tail-beat cycle], for comparison
+#: only (nothing in the model is fitted to them): (swimmer, stride, source).
+PUBLISHED_STRIDES = (
+    ("Tunabot, 255 mm robot", 4.0 / 15.0, "Zhu et al. 2019, Sci. Robot. 4:eaax4615: 4.0 BL/s at 15 Hz"),
+    ("Atlantic bluefin tuna, wild", 0.6 / 1.0, "Gleiss et al. 2019, R. Soc. Open Sci. 6:190203: 0.6 BL/s at ~1 Hz"),
+    ("SwiftFin paper", 1.26, "SwiftFin paper: U* = 1.26 f BL/s"),
+)
+
+
+def free_swim_speed_m_s(model_path, params, frequency_hz: float, reactive: bool = False,
+                        duration_s: float = 6.0) -> float:
+    """Mean forward speed of the free fish (six degrees of freedom) over the second half of a run."""
+    return swim(model_path, params, frequency_hz=frequency_hz, duration_s=duration_s, planar=False,
+                reactive=reactive).forward_speed_m_s()
+
+
 def load_model(model_path, planar: bool = False):
     """The MJCF as an MjModel; ``planar``: the head's free joint replaced by surge x, sway y and yaw z."""
     import mujoco

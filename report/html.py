@@ -153,7 +153,7 @@ class ReportTiming:
 def build_page(params: Params, parts=None, mass_properties: dict | None = None, fit_dir=None, *, findings,
                audit, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
                mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None,
-               jobs: int | None = 1, robot_dir: Path | None = None) -> str:
+               jobs: int | None = 1, robot_dir: Path | None = None, swim: list[dict] | None = None) -> str:
     """The report page as a string (see :func:`write_report`)."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
@@ -188,7 +188,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
         "parts": parts_section(params, rparts, part_pics, mass_properties),
         "rules": rules_section(findings),
         "mass": mass_section(params, mass_properties, mass_note),
-        "robot": robot_section(robot_dir, robot_pic),
+        "robot": robot_section(robot_dir, robot_pic, swim),
         "efficiency": plot_section(eff, "transmission efficiency against frequency"),
         "tailbeat": plot_section(beat, "joint angles and step rates over one tail-beat"),
         "wave": plot_section(wave, "body wave envelope"),
@@ -220,7 +220,8 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
 def write_report(params: Params, out_dir, parts=None, mass_properties: dict | None = None, fit_dir=None, *,
                  findings, audit, progress: Callable[[str], None] | None = None,
                  params_name: str = "swiftfin.toml", mass_note: str = "",
-                 timing: ReportTiming | None = None, memo=None, plots=None, jobs: int | None = 1) -> Path:
+                 timing: ReportTiming | None = None, memo=None, plots=None, jobs: int | None = 1,
+                 swim: list[dict] | None = None) -> Path:
     """Write ``out_dir/report.html`` and return its path.
 
     ``parts``: ReportParts or ``swiftfin.pipeline.BuiltPart``s (None: no pictures, the page says so);
@@ -228,7 +229,8 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     ``fit_dir``: a ``swiftfin fit`` output folder; ``findings`` / ``audit``: the design rules' findings and the
     paper audit's entries, computed by the caller (the report shows, it does not compute); ``plots``: the
     (efficiency, tail-beat, wave) plots of :func:`standard_plots` when the caller has them (its cache). The robot
-    section reads ``out_dir/robot/`` when the folder holds a build's simulator files.
+    section reads ``out_dir/robot/`` when the folder holds a build's simulator files; ``swim``: the swimming
+    results of ``swiftfin.pipeline.swim_results`` to show there.
     The file is written to a temporary name and renamed, so a failed report never leaves half a page.
     """
     out = Path(out_dir)
@@ -236,7 +238,7 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     robot_dir = out / "robot" if (out / "robot" / "swiftfin.urdf").is_file() else None
     page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
                       params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots,
-                      jobs=jobs, robot_dir=robot_dir)
+                      jobs=jobs, robot_dir=robot_dir, swim=swim)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")

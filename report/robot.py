@@ -97,7 +97,28 @@ def robot_items(robot: dict):
     return items
 
 
-def robot_section(robot_dir: Path | None, picture: bytes | None) -> str:
+def swim_table(swim: list[dict] | None) -> str:
+    """The exported fish swimming in MuJoCo (handed in by the build), beside published stride lengths."""
+    from swiftfin.physics.swim_sim import PUBLISHED_STRIDES
+    from swiftfin.report.markup import notice
+
+    if not swim:
+        return notice("Swimming not run in this build (<code>swiftfin build --swim</code> runs the exported fish in "
+                      "MuJoCo at 1, 2 and 3 Hz and shows it here).")
+    rows = [[num(r["frequency_hz"], "g", "Hz"), num(r["quasi_steady_m_s"], ".3f", "m/s"),
+             num(r["stride_quasi_steady"], ".2f"), num(r["reactive_m_s"], ".3f", "m/s"), num(r["stride_reactive"], ".2f"),
+             num(r["slip_reactive"], ".2f")] for r in swim]
+    refs = "".join(f"<li>{esc(name)}: {stride:.2f} body lengths per tail beat ({esc(src)})</li>"
+                   for name, stride, src in PUBLISHED_STRIDES)
+    return (f'<p class="lead">The exported fish, free in six degrees of freedom in MuJoCo, {swim[0]["duration_s"]:g} s '
+            "per run, mean over the last half: with MuJoCo's quasi-steady fluid model alone, and with Lighthill's "
+            "reactive force at the fin's trailing edge (stride U / (f L), slip U / (f &lambda;)).</p>"
+            + table(["frequency", "quasi-steady speed", "stride", "with reactive force", "stride", "slip"], rows,
+                    "robot-swim", None, {0, 1, 2, 3, 4, 5})
+            + f"<p>Published, for comparison (nothing is fitted to them):</p><ul>{refs}</ul>")
+
+
+def robot_section(robot_dir: Path | None, picture: bytes | None, swim: list[dict] | None = None) -> str:
     from swiftfin.report.markup import notice
 
     if robot_dir is None or not (robot_dir / "swiftfin.urdf").is_file():
@@ -127,4 +148,5 @@ def robot_section(robot_dir: Path | None, picture: bytes | None) -> str:
             + table(["link", "mass", "COM", "buoyancy volume", "collision shapes", "sway added mass",
                      "yaw added inertia"], rows, "robot-links", None, {1, 3, 5, 6})
             + table(["joint", "links", "origin (model frame)", "axis", "range", "effort"], jrows, "robot-joints",
-                    None, {5}))
+                    None, {5})
+            + "<h3>Swimming</h3>" + swim_table(swim))

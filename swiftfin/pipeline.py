@@ -238,7 +238,7 @@ def assembly_step(result: BuildResult) -> bytes:
 
 def write_outputs(result: BuildResult, folder: Path, params_file: Path,
                   progress: Callable[[str], None] | None = None, params_sha256: str | None = None,
-                  cache: FamilyCache | None = None, ros2_package: bool = False) -> dict:
+                  cache: FamilyCache | None = None, ros2_package: bool = False, swim: bool = False) -> dict:
     """Write every file of the build into ``folder`` (which exists and is empty): the parts, the assembly, the
     robot for the simulators with ``mass_properties.json`` (exports.robot; with ``ros2_package`` also its ROS 2
     description package) and ``report.html``. Returns the manifest, which lists them all."""
@@ -261,7 +261,8 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
     data = assembly_step(result)
     (folder / "assembly.step").write_bytes(data)
     files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
-    files += write_robot_and_report(result, folder, params_file, progress, cache, ros2_package=ros2_package)
+    files += write_robot_and_report(result, folder, params_file, progress, cache, ros2_package=ros2_package,
+                                    swim=swim)
     manifest = make_manifest(files, parts, params_file, params_sha256)
     (folder / MANIFEST_NAME).write_text(manifest_text(manifest))
     return manifest
@@ -269,7 +270,8 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
 
 def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
                            progress: Callable[[str], None] | None = None,
-                           cache: FamilyCache | None = None, ros2_package: bool = False) -> list[dict]:
+                           cache: FamilyCache | None = None, ros2_package: bool = False,
+                           swim: bool = False) -> list[dict]:
     """Mass properties with their validation gate, the simulator files (exports.robot) and report.html, into
     ``folder``; returns their manifest entries. BuildError names the part or link that fails the gate."""
     from swiftfin.exports.robot import write_robot
@@ -286,7 +288,12 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
         from swiftfin.report.html import standard_plots
 
         plots = cache.memoize("report-plots", ("swiftfin.report.plots",), result.params, standard_plots.__wrapped__)
-    report_for_build(result, folder, params_file.name, progress=progress, memo=memo, plots=plots)
+    swimming = None
+    if swim:
+        if progress:
+            progress("  swimming the exported fish in MuJoCo at 1, 2 and 3 Hz (quasi-steady and reactive) ...")
+        swimming = swim_results(folder / "robot" / "swiftfin.xml", result.params, build_jobs())
+    report_for_build(result, folder, params_file.name, progress=progress, memo=memo, plots=plots, swim=swimming)
     entries = []
     for rel in sorted(robot["files"]) + ["report.html"]:
         data = (folder / rel).read_bytes()
@@ -295,12 +302,14 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
 
 
 def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | None = None,
-          progress: Callable[[str], None] | None = None, ros2_package: bool = False) -> BuildResult:
+          progress: Callable[[str], None] | None = None, ros2_package: bool = False,
+          swim: bool = False) -> BuildResult:
     """Build the design in ``params_file`` into ``out_dir`` (see the module docstring and swiftfin/outdir.py).
 
     The parameter file is read once: the parts are made from, and the manifest hashes, the bytes parsed.
     ``out_dir`` is checked before any work and replaced only if it holds a previous build and nothing else.
     ``ros2_package``: also write ``robot/swiftfin_description/``, a ROS 2 description package (exports.robot).
+    ``swim``: also swim the exported fish in MuJoCo (:func:`swim_results`) and show it in the report.
     """
     from swiftfin.layout.design import load_design_source
 
@@ -317,7 +326,7 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
             progress("  checking the assembly over the joints' range of motion ...")
         check_built(result, cache, progress)
         write_outputs(result, tmp, params_file, progress, params_sha256=sha256_bytes(raw), cache=cache,
-                      ros2_package=ros2_package)
+                      ros2_package=ros2_package, swim=swim)
         outdir.swap_into_place(tmp, out, keep)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
@@ -351,6 +360,27 @@ def stderr_progress(msg: str) -> None:
     print(msg, file=sys.stderr, flush=True)
 
 
+SWIM_FREQUENCIES_HZ = (1.0, 2.0, 3.0)
+
+
+def swim_results(mjcf_path: Path, params: Params, jobs: int | None = 1, duration_s: float = 6.0) -> list[dict]:
+    """The exported fish swimming free in MuJoCo at 1, 2 and 3 Hz, with MuJoCo's quasi-steady fluid model alone
+    and with Lighthill's reactive force (physics/swim_sim.py): speed, stride U / (f L) and slip U / (f lambda)
+    per frequency. Six runs of ``duration_s``, one process each on every core."""
+    from swiftfin.exports.parallel import map_parts
+    from swiftfin.physics.swim_sim import free_swim_speed_m_s
+
+    runs = [(f, reactive) for f in SWIM_FREQUENCIES_HZ for reactive in (False, True)]
+    speeds = map_parts(lambda r: free_swim_speed_m_s(str(mjcf_path), params, r[0], r[1], duration_s), runs, jobs)
+    L = params.body.length_mm / 1000
+    lam = params.swimming.wavelength_body_lengths * L
+    by = dict(zip(runs, speeds))
+    return [{"frequency_hz": f, "duration_s": duration_s,
+             "quasi_steady_m_s": by[(f, False)], "reactive_m_s": by[(f, True)],
+             "stride_quasi_steady": by[(f, False)] / (f * L), "stride_reactive": by[(f, True)] / (f * L),
+             "slip_reactive": by[(f, True)] / (f * lam)} for f in SWIM_FREQUENCIES_HZ]
+
+
 def report_findings(params: Params, parts, mass_properties: dict | None) -> tuple[list, list]:
     """What the report shows and does not compute: the design rules' findings (with the build's mass properties
     and the printed parts' boxes when there are any) and the paper audit's entries."""
@@ -365,7 +395,7 @@ def report_findings(params: Params, parts, mass_properties: dict | None) -> tupl
 
 def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
                      progress: Callable[[str], None] | None = None, fit_dir=None, memo=None,
-                     plots=None) -> Path:
+                     plots=None, swim: list[dict] | None = None) -> Path:
     """The report of a finished ``swiftfin.pipeline.build`` (``result``: its BuildResult) into its folder: the
     parts as built, the mass table from ``out_dir/mass_properties.json`` when the build wrote one. For
     ``swiftfin build`` to call after the files are in place."""
@@ -382,4 +412,4 @@ def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
     findings, audit = report_findings(result.params, result.parts, mp)
     return write_report(result.params, out, parts=result.parts, mass_properties=mp, fit_dir=fit_dir,
                         findings=findings, audit=audit, progress=progress, params_name=params_name, mass_note=note,
-                        memo=memo, plots=plots, jobs=build_jobs())
+                        memo=memo, plots=plots, jobs=build_jobs(), swim=swim)

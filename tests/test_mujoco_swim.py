@@ -379,3 +379,33 @@ def test_the_mjcf_bodies_sum_to_the_mass_model(real_robot, default_params):
         assert np.allclose(buoy.pos, cob, atol=1e-12)
         assert model.body_gravcomp[buoy.id] * buoy.mass[0] * g == pytest.approx(rho * V * g, rel=1e-9)
         assert model.body_gravcomp[model.body(lk.name).id] == 0.0
+
+
+def test_build_swim_results_go_into_the_report(real_robot, default_params, tmp_path):
+    """`swiftfin build --swim`: the app swims the exported file (quasi-steady and reactive) and the report's
+    robot section shows speed, stride and slip beside the published strides (short runs here)."""
+    from swiftfin.pipeline import swim_results
+    from swiftfin.report.robot import swim_table
+
+    path, _ = real_robot
+    rows = swim_results(path, default_params, jobs=2, duration_s=3.0)
+    assert [r["frequency_hz"] for r in rows] == [1.0, 2.0, 3.0]
+    for r in rows:
+        assert r["quasi_steady_m_s"] > 0 and r["reactive_m_s"] > r["quasi_steady_m_s"]
+        L = default_params.body.length_mm / 1000
+        assert r["stride_reactive"] == pytest.approx(r["reactive_m_s"] / (r["frequency_hz"] * L))
+        assert 0 < r["slip_reactive"] < 1
+    html = swim_table(rows)
+    assert "Tunabot" in html and "Gleiss" in html and f"{rows[2]['reactive_m_s']:.3f}" in html
+    assert "--swim" in swim_table(None)
+
+
+def test_build_has_a_swim_option(monkeypatch, tmp_path):
+    from swiftfin import pipeline
+    from swiftfin.cli import main
+
+    seen = {}
+    monkeypatch.setattr(pipeline, "build", lambda *a, **k: (seen.update(k), (_ for _ in ()).throw(SystemExit(0))))
+    with pytest.raises(SystemExit):
+        main(["build", "--out", str(tmp_path / "o"), "--swim"])
+    assert seen.get("swim") is True

@@ -17,6 +17,9 @@ def configure(ap) -> None:
     ap.add_argument("--ros2-package", action="store_true",
                     help="also write robot/swiftfin_description/: a ROS 2 description package (package.xml, "
                          "CMakeLists.txt, the URDF with package:// mesh URIs, the meshes; no launch files)")
+    ap.add_argument("--swim", action="store_true",
+                    help="also swim the exported fish in MuJoCo at 1, 2 and 3 Hz (quasi-steady, and with Lighthill's "
+                         "reactive force) and show speed, stride and slip in the report (about 20 s of CPU)")
     ap.set_defaults(func=run)
 
 
@@ -27,7 +30,7 @@ def run(args) -> int:
     cache = None if args.no_cache else FamilyCache(args.cache_dir)
     print(f"swiftfin build: {args.params_file} -> {args.out}/", file=sys.stderr, flush=True)
     result = build(args.params_file, args.out, cache=cache, progress=stderr_progress,
-                   ros2_package=args.ros2_package)
+                   ros2_package=args.ros2_package, swim=args.swim)
     print(summary_table(result))
     import json
     listed = json.loads((Path(args.out) / "manifest.json").read_text())["files"]
