@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import dataclasses
 import difflib
-import hashlib
 import math
 import os
 import re
@@ -513,20 +512,6 @@ def parse_toml_bytes(data: bytes, source: str) -> dict:
         raise ParamError(source, [Problem("(syntax)", "[[[...]]]",
                                           "the file is nested too deeply to parse (a parameter file nests at "
                                           "most 4 tables or lists)")]) from None
-
-
-def read_toml(path: str | Path) -> dict:
-    """Read a TOML file once, turning a missing or unreadable file or a syntax error into a ParamError."""
-    return parse_toml_bytes(read_file_bytes(path), str(path))
-
-
-def load_params(path: str | Path) -> Params:
-    """Schema-level validation of a parameter file (no geometry). See ``swiftfin.layout.design.load_design``."""
-    return params_from_dict(read_toml(path), str(path))
-
-
-def file_sha256(path: str | Path) -> str:
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 def to_dict(p: Params) -> dict:

@@ -15,7 +15,7 @@ from swiftfin.core import units
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 from swiftfin.exports.brep import mesh_volume_props, solid_volume_props
-from swiftfin.exports.print_model import memoized
+from swiftfin.exports.parallel import memoized
 from swiftfin.exports.water import envelope_section_mm
 from swiftfin.layout import geometry as layout
 

@@ -1,6 +1,7 @@
-"""Per-part work on every core: the mass model's layer slicing and the report's part pictures are independent
-from part to part and take seconds each. Forked workers, so the work and the parts (OpenCascade solids) need
-not be picklable; only the results are."""
+"""Per-part work, on every core and stored: the mass model's layer slicing, the link meshes and the report's
+part pictures are independent from part to part and take seconds each. :func:`map_parts` runs them on forked
+workers (the work and the parts, OpenCascade solids, need not be picklable; only the results are);
+:func:`memoized` files each result in the application's store, so that the layers below it stay pure."""
 from __future__ import annotations
 
 import os
@@ -35,3 +36,10 @@ def map_parts(fn, items: list, jobs: int | None = 1) -> list:
             return pool.map(_map_one, range(n), chunksize=1)
     finally:
         _MAP_STATE = ()
+
+
+def memoized(memo, stage: str, labels: tuple[str, ...], extra, compute):
+    """``compute()``, or its stored result: ``memo(stage, labels, extra, compute)`` is the application's store
+    (swiftfin.cache.StageCache), keyed by the content of the named parts, ``extra`` and the stage's code. The
+    functions here stay pure: with ``memo`` None they compute."""
+    return compute() if memo is None else memo(stage, tuple(labels), extra, compute)

@@ -33,9 +33,6 @@
 
   Every method that fails is named in the part's flags. An empty core (walls thinner than two side walls,
   e.g. the 2 mm hull shells) is legitimate: the part prints solid, as the slicer prints it.
-
-:func:`memoized` (the application's store of per-part results) lives here, the lowest module of the mass model,
-because the per-part work here, in :mod:`swiftfin.exports.water` and in :mod:`swiftfin.exports.mass_gate` uses it.
 """
 from __future__ import annotations
 
@@ -49,13 +46,7 @@ from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 from swiftfin.exports.brep import VolumeProps, _props, _wrapped, solid_area_mm2, solid_volume_props
 from swiftfin.exports.inertia import Inertial, combine
-
-
-def memoized(memo, stage: str, labels: tuple[str, ...], extra, compute):
-    """``compute()``, or its stored result: ``memo(stage, labels, extra, compute)`` is the application's store
-    (swiftfin.cache.StageCache), keyed by the content of the named parts, ``extra`` and the stage's code. The
-    functions here stay pure: with ``memo`` None they compute."""
-    return compute() if memo is None else memo(stage, tuple(labels), extra, compute)
+from swiftfin.exports.parallel import memoized  # noqa: F401  re-exported for the mass model
 
 
 def rotation_matrix(print_rotation_deg) -> np.ndarray:

@@ -31,7 +31,7 @@ import numpy as np
 from swiftfin.core import units
 from swiftfin.exports import massprops
 from swiftfin.exports.mjcf import mjcf_bytes
-from swiftfin.exports.parallel import map_parts
+from swiftfin.exports.parallel import map_parts, memoized
 from swiftfin.exports.ros_package import DEFAULT_PACKAGE, ros_package_files
 from swiftfin.exports.robot_model import Robot, collision_mesh_file, robot_from_design, visual_mesh_file
 from swiftfin.exports.sdf import sdf_bytes, world_bytes
@@ -109,7 +109,7 @@ def _link_mesh_pair(members, meshes: dict, origin_m, budget: int, tol_mm: float,
 def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=None,
                 jobs: int | None = 1) -> dict[str, tuple]:
     """{file name: (vertices [m], faces)} of every link's visual and collision mesh, in the link frame.
-    ``memo``: the application's store of results per link (massprops.memoized), keyed by the member parts;
+    ``memo``: the application's store of results per link (exports.parallel.memoized), keyed by the member parts;
     ``jobs``: processes, one link each (exports.parallel.map_parts)."""
     e = params.export
     by_label = {p.label: p for p in parts}
@@ -117,7 +117,7 @@ def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=
     def one(lk):
         members = [by_label[label] for label in lk.parts if label in by_label]     # cables: no solid
         extra = [list(lk.origin_m), e.visual_triangle_budget, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg]
-        return massprops.memoized(
+        return memoized(
             memo, "link_mesh", tuple(p.label for p in members), extra,
             lambda: _link_mesh_pair(members, meshes, lk.origin_m, e.visual_triangle_budget, e.mesh_tolerance_mm,
                                     e.mesh_angular_tolerance_deg))
@@ -152,7 +152,7 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
 
     ``parts``: the design's PartSpecs; ``meshes``: optional {label: mesh in mm} (exports.files.Mesh or trimesh),
     the tessellations already made for the STL files (tessellated here otherwise); ``memo``: the application's
-    store of per-part and per-link results (:func:`swiftfin.exports.massprops.memoized`); ``ros2_package``: also
+    store of per-part and per-link results (:func:`swiftfin.exports.parallel.memoized`); ``ros2_package``: also
     write ``robot/swiftfin_description/``, a ROS 2 description package (:func:`exports.ros_package.ros_package_files`).
     The summary's ``files`` lists every file written, relative to ``out_dir``.
     """

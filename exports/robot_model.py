@@ -17,7 +17,6 @@ Buoyancy (``Link.displaced_volume_m3``, ``Link.cob_m``): the exporters that can 
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -25,6 +24,7 @@ import numpy as np
 
 from swiftfin.layout import geometry as layout
 from swiftfin.core import units
+from swiftfin.exports.hydro import link_hydrodynamics
 from swiftfin.exports.massprops import Inertial, MassReport, combine, link_origin_mm
 from swiftfin.core.schema import Params
 
@@ -231,25 +231,22 @@ def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfi
     n = p.joints.count
     stops = layout.joint_stop_angles_rad(p)
     links = []
-    waters = report.link_entrained_water or (None,) * len(report.links)
-    for lk, V, cob, water in zip(report.links, report.link_displaced_volume_m3, report.link_cob_m, waters):
+    waters = [None if w is None else w.shifted(lk.origin_m)            # link frame
+              for lk, w in zip(report.links, report.link_entrained_water or (None,) * len(report.links))]
+    hydro = link_hydrodynamics(p, [lk.name for lk in report.links], waters)
+    labels = {part.label for part in parts}
+    for lk, V, cob, water, hd in zip(report.links, report.link_displaced_volume_m3, report.link_cob_m, waters, hydro):
         fluid = [fluid_ellipsoid(p, report, lk.index)]
         if lk.index == n:
             fin = fin_ellipsoid(p, parts, n)
             if fin is not None:
                 fluid.append(fin)
         visual = Geometry(f"{lk.name}_visual", "mesh", (), visual_mesh_file(lk.name))
-        labels = {part.label for part in parts}
         n_solid = sum(1 for label in lk.parts if label in labels)           # cables and tubes have no solid
         collisions = tuple(Geometry(f"{lk.name}_collision_{k}", "mesh", (), collision_mesh_file(lk.name, k))
                            for k in range(n_solid))
         cob_link = tuple(float(v) for v in np.asarray(cob) - np.asarray(lk.origin_m))
-        links.append(Link(lk.name, lk.inertial, (visual,), collisions, tuple(fluid), float(V), cob_link,
-                          None if water is None else water.shifted(lk.origin_m)))
-    from swiftfin.exports.hydro import link_hydrodynamics
-
-    hydro = link_hydrodynamics(p, [lk.name for lk in links], [lk.entrained_water for lk in links])
-    links = [dataclasses.replace(lk, hydro=hd) for lk, hd in zip(links, hydro)]
+        links.append(Link(lk.name, lk.inertial, (visual,), collisions, tuple(fluid), float(V), cob_link, water, hd))
     joints, tendons, actuators = [], [], []
     tau = joint_torque_limit_nm(p)
     arm = reflected_armature_kg_m2(p)

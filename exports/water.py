@@ -19,7 +19,8 @@ from swiftfin.core.schema import Params
 from swiftfin.exports.brep import VolumeProps, _wrapped, solid_volume_props
 from swiftfin.exports.inertia import Inertial, combine, make_inertial
 from swiftfin.exports.line_masses import link_of_station
-from swiftfin.exports.print_model import PartMass, _common, memoized
+from swiftfin.exports.parallel import memoized
+from swiftfin.exports.print_model import PartMass, _common
 from swiftfin.layout import geometry as layout
 
 

@@ -99,23 +99,20 @@ def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
     parts' content (None: render every picture); ``jobs``: processes for the part pictures."""
     from swiftfin.report.render import MeshItem, png_bytes, render
 
-    from swiftfin.exports.parallel import map_parts
+    from swiftfin.exports.parallel import map_parts, memoized
     from swiftfin.report.render import cluster_decimate
 
     t0 = time.perf_counter()
     items = {p.label: MeshItem(p.vertices, p.faces, FAMILY_COLORS.get(p.family, OTHER_COLOR), p.label) for p in parts}
 
-    def stored(stage: str, labels: tuple, extra, compute):
-        return compute() if memo is None else memo(stage, labels, extra, compute)
-
     def picture(what: list, w: int, h: int, az: float, el: float) -> bytes:
-        return stored("picture", tuple(it.name for it in what),
+        return memoized(memo, "picture", tuple(it.name for it in what),
                       [w, h, az, el, [list(it.color) for it in what], [len(it.faces) for it in what]],
                       lambda: png_bytes(render(what, w, h, azimuth_deg=az, elevation_deg=el, max_faces=10**9)))
 
     def view_item(it: MeshItem) -> MeshItem:
         n = max(200, int(ASSEMBLY_VIEW_FACE_FRACTION * len(it.faces)))
-        v, f = stored("view_mesh", (it.name,), [n], lambda: cluster_decimate(it.vertices, it.faces, n))
+        v, f = memoized(memo, "view_mesh", (it.name,), [n], lambda: cluster_decimate(it.vertices, it.faces, n))
         return MeshItem(v, f, it.color, it.name)
 
     out = {}

@@ -317,7 +317,6 @@ class StageCache:
         self.root = Path(root) / "stages"
         self.stage_modules = dict(stage_modules)
         self._source: dict[str, str] = {}
-        self.hits = self.misses = 0
 
     def _source_key(self, stage: str) -> str:
         if stage not in self._source:
@@ -330,13 +329,10 @@ class StageCache:
         path = self.root / stage / ekey[:2] / f"{ekey}.pkl"
         try:
             with path.open("rb") as fh:
-                value = pickle.load(fh)
-            self.hits += 1
-            return value
+                return pickle.load(fh)
         except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError, IndexError, TypeError):
             pass
         value = compute()
-        self.misses += 1
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
             fd, tmpname = tempfile.mkstemp(prefix=".stage.", dir=path.parent)

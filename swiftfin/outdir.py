@@ -10,6 +10,10 @@
   again (a user may have put a file in it during the build).
 * A temporary folder left by a killed build is removed by the next build into the same place
   (:func:`remove_stale_temp_dirs`) only when its marker proves it is the tool's and its process is gone.
+
+The other commands' output places are checked before their work too (:func:`check_output_dir` for
+``fit --out``, :func:`check_output_file` for ``synth --out``): a fit or a simulation is not run only to fail at
+the end on a path it cannot write. Each check leaves nothing behind: what it creates to probe, it removes.
 """
 from __future__ import annotations
 
@@ -85,14 +89,10 @@ def check_out_dir(out: Path, keep: tuple[Path, ...] = ()) -> None:
             if not ok:
                 raise UserError(f"--out {shown} is not replaced: {why}. Nothing was written; move those files "
                                 f"or {hint}")
-    parent = target.parent
-    for anc in (parent, *parent.parents):
-        if anc.exists():
-            if not anc.is_dir():
-                raise UserError(f"--out {shown}: {anc} is not a folder")
-            if not os.access(anc, os.W_OK | os.X_OK):
-                raise UserError(f"--out {shown}: {anc} is not writable")
-            break
+    # writability is proven by make_temp_dir, which makes the build's folder beside ``out`` before any work
+    anc = next(a for a in (target.parent, *target.parent.parents) if a.exists())
+    if not anc.is_dir():
+        raise UserError(f"--out {shown}: {anc} is not a folder")
 
 
 def _marker(pid: int | None = None) -> str:
@@ -164,3 +164,73 @@ def swap_into_place(tmp: Path, out: Path, keep: tuple[Path, ...] = ()) -> None:
         shutil.rmtree(old, ignore_errors=True)
     else:
         os.rename(tmp, out)
+
+
+# --------------------------------------------------------------------------------------------- fit, synth
+def _probe_folder(folder: Path, option: str, given: Path) -> None:
+    """Create (and remove) a file in an existing ``folder``: UserError if that fails."""
+    try:
+        fd, name = tempfile.mkstemp(prefix=".swiftfin_probe_", dir=folder)
+        os.close(fd)
+        os.unlink(name)
+    except OSError as exc:
+        raise UserError(f"{option} {given}: cannot write into {folder} ({exc.strerror or exc}); "
+                        f"choose a writable place") from None
+
+
+def _make_and_remove(folder: Path, option: str, given: Path) -> None:
+    """``folder`` does not exist: check that it can be made (its parents too), by making it and removing it."""
+    anc = folder
+    while not anc.exists() and anc != anc.parent:
+        anc = anc.parent
+    if not anc.is_dir():
+        raise UserError(f"{option} {given}: {anc} is a file, so no folder can be made under it; "
+                        f"choose another path")
+    made = []
+    try:
+        p = folder
+        todo = []
+        while p != anc:
+            todo.append(p)
+            p = p.parent
+        for p in reversed(todo):
+            p.mkdir()
+            made.append(p)
+        _probe_folder(folder, option, given)
+    except OSError as exc:
+        raise UserError(f"{option} {given}: cannot create the folder {folder} ({exc.strerror or exc}); "
+                        f"choose a writable place") from None
+    finally:
+        for p in reversed(made):
+            try:
+                p.rmdir()
+            except OSError:
+                pass
+
+
+def check_output_dir(path, option: str = "--out") -> None:
+    """``path`` is, or can become, a writable folder. An existing file there is refused (not overwritten)."""
+    p = Path(path)
+    if p.exists() and not p.is_dir():
+        raise UserError(f"{option} {p}: exists and is a file; expected a folder to write into "
+                        f"(give another path, or remove the file)")
+    if p.is_dir():
+        _probe_folder(p, option, p)
+    else:
+        _make_and_remove(p.absolute(), option, p)
+
+
+def check_output_file(path, option: str = "--out") -> None:
+    """``path`` can be written as a file: not a folder, and its folder exists or can be made and is writable."""
+    p = Path(path)
+    if p.is_dir():
+        raise UserError(f"{option} {p}: is a folder; expected a file name to write (e.g. {p / 'log.csv'})")
+    if p.exists():
+        if not os.access(p, os.W_OK):
+            raise UserError(f"{option} {p}: the file exists and is read-only; choose another path")
+        return
+    parent = p.absolute().parent
+    if parent.is_dir():
+        _probe_folder(parent, option, p)
+    else:
+        _make_and_remove(parent, option, p)

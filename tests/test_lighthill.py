@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from swiftfin.physics.swim_sim import added_mass_per_length_kg_m, lighthill_edge_force_n
+from swiftfin.physics.swim_sim import PUBLISHED_STRIDES, added_mass_per_length_kg_m, lighthill_edge_force_n
 
 RHO = 1000.0
 SPAN_M = 0.16                          # about the default fin's span
@@ -84,16 +84,8 @@ def test_b_no_mean_thrust_when_the_wave_runs_at_the_swimming_speed():
 
 
 # ------------------------------------------------------------------------------------- (c) the real fish
-# Published thunniform swimmers, for the printed comparison only (nothing is fitted to them):
-LITERATURE = (
-    # (swimmer, stride length U / (f L) [BL per tail-beat cycle], source)
-    ("Tunabot, 255 mm robot", 4.0 / 15.0,
-     "Zhu et al. 2019, Sci. Robot. 4:eaax4615: 4.0 BL/s at 15 Hz"),
-    ("Atlantic bluefin tuna, wild", 0.6 / 1.0,
-     "Gleiss et al. 2019, R. Soc. Open Sci. 6:190203: 0.6 BL/s at ~1 Hz"),
-    ("SwiftFin paper (this design)", 1.26,
-     "SwiftFin paper: U* = 1.26 f BL/s"),
-)
+# Published thunniform swimmers, for the printed comparison only (nothing is fitted to them)
+LITERATURE = PUBLISHED_STRIDES
 RUN_S = 6.0                            # as the MuJoCo speed table (tests/test_mujoco_swim.py)
 
 

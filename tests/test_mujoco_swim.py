@@ -206,7 +206,7 @@ def test_trimmed_fish_rests_level_and_neutral(real_robot, default_params):
     assert np.abs(r.head_axis[:, 2]).max() < 1e-4
 
 
-def test_buoyancy_couple_rights_a_pitched_fish(real_robot, default_params):
+def test_buoyancy_at_the_cob_rights_a_pitched_fish(real_robot, default_params):
     """The couple of buoyancy at the COB and weight at the COM is a restoring one: a fish started 20 deg nose
     down comes back toward level (COB above COM)."""
     path, _ = real_robot

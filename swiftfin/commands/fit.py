@@ -28,7 +28,7 @@ from pathlib import Path
 from swiftfin.layout.design import load_design
 from swiftfin.core.errors import UserError
 from swiftfin.commands import DESIGN_HELP
-from swiftfin.commands.outpath import check_output_dir
+from swiftfin.outdir import check_output_dir
 
 
 def configure(ap) -> None:

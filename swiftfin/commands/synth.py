@@ -8,7 +8,7 @@ from __future__ import annotations
 from swiftfin.layout.design import load_design
 from swiftfin.core.errors import UserError
 from swiftfin.commands import DESIGN_HELP
-from swiftfin.commands.outpath import check_output_file
+from swiftfin.outdir import check_output_file
 
 
 def configure(ap) -> None:
