@@ -15,6 +15,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from swiftfin.catalogues.fasteners import dowel_diameters_mm, screw_diameters_mm
+
+SCREWS = screw_diameters_mm()      # the thread sizes of catalogues/fasteners.toml (M2, M2.5, M3, M4)
+DOWELS = dowel_diameters_mm()      # the pin diameters of catalogues/pins.toml (ISO 8734)
+
 
 def p(default: Any, lo: float | None = None, hi: float | None = None, doc: str = "", source: str = "",
       choices: tuple | None = None, length: tuple[int, int] | None = None) -> Any:
@@ -58,7 +63,8 @@ class Hull:
                            "Engineering default (hull half-width error < 0.05 mm at 9)")
     split_halves: bool = p(True, doc="Split each hull segment into upper and lower halves at z = 0 "
                                      "(flat print face, assembly access)", source="Engineering default")
-    screw_diameter_mm: float = p(2.0, 1.6, 4.0, "Screws joining hull halves and bulkheads (M2)", "Engineering default")
+    screw_diameter_mm: float = p(2.0, min(SCREWS), max(SCREWS), "Screws joining hull halves and bulkheads (M2)",
+                                 "Engineering default; sizes of catalogues/fasteners.toml", choices=SCREWS)
     flooded_from_joint: int = p(1, 1, 9, "Hull segments behind this joint are free-flooding: water enters through "
                                 "their bulkhead cable holes and a vent at the top and bottom; ahead of it the "
                                 "hull is sealed (joints.count + 1: all sealed)",
@@ -79,7 +85,8 @@ class Joints:
                                  length=(1, 8))
     tendon_moment_arm_mm: float = p(15.0, 4.0, 60.0, "Radius of the tendon sector on each link (d_mount)",
                                     f"{PAPER} §3.4 (15 mm)")
-    pin_diameter_mm: float = p(3.0, 1.5, 8.0, "Hinge pin diameter (steel dowel)", "Engineering default")
+    pin_diameter_mm: float = p(3.0, min(DOWELS), max(DOWELS), "Hinge pin diameter (ISO 8734 steel dowel)",
+                               "Engineering default; sizes of catalogues/pins.toml", choices=DOWELS)
     stop_margin_deg: float = p(5.0, 0.0, 30.0,
                                "Hard stop beyond the largest joint angle the wave model demands",
                                "Engineering default")
@@ -97,7 +104,8 @@ class Motor:
     pilot_diameter_mm: float = p(22.0, 10.0, 40.0, "Centring boss diameter", "NEMA 17 (22 mm)")
     pilot_height_mm: float = p(2.0, 0.0, 5.0, "Centring boss height", "NEMA 17 (2 mm)")
     hole_spacing_mm: float = p(31.0, 10.0, 50.0, "Mounting hole square spacing", "NEMA 17 (31 mm)")
-    mount_screw_diameter_mm: float = p(3.0, 2.0, 5.0, "Mounting screws (M3)", "NEMA 17")
+    mount_screw_diameter_mm: float = p(3.0, min(SCREWS), max(SCREWS), "Mounting screws (M3)",
+                                       "NEMA 17; sizes of catalogues/fasteners.toml", choices=SCREWS)
     mass_kg: float = p(0.28, 0.05, 1.0, "Motor mass", "17HS4401 datasheet (280 g)")
     rotor_inertia_kg_m2: float = p(5.4e-6, 1e-7, 1e-4, "Rotor inertia", "17HS4401 datasheet (54 g cm^2)")
     holding_torque_nm: float = p(0.42, 0.01, 5.0, "Holding torque", f"{PAPER} Table 2 (0.42 N m)")
@@ -127,7 +135,8 @@ class Spool:
     flange_thickness_mm: float = p(1.6, 0.8, 6.0, "Flange thickness", "Engineering default (4 line widths)")
     hub_length_mm: float = p(8.0, 3.0, 30.0, "Hub length below the drum (carries the set screw)",
                              "Engineering default")
-    set_screw_diameter_mm: float = p(3.0, 1.6, 5.0, "Set screw (M3, on the shaft flat)", "Engineering default")
+    set_screw_diameter_mm: float = p(3.0, min(SCREWS), max(SCREWS), "Set screw (M3, on the shaft flat)",
+                                     "Engineering default; sizes of catalogues/fasteners.toml", choices=SCREWS)
     mu_cable_drum: float = p(0.35, 0.02, 1.0, "Cable-on-drum friction coefficient", f"{PAPER} §2.3.1 (nylon on PLA 0.35)")
     mu_dynamic: float = p(0.15, 0.01, 1.0, "Dynamic friction coefficient in eq. 26", f"{PAPER} §2.3.4 (0.15)")
 
@@ -158,7 +167,8 @@ class Guides:
     mu_ptfe: float = p(0.05, 0.01, 0.5, "Cable-on-PTFE friction coefficient", f"{PAPER} §2.3.3 (0.05)")
     ptfe_density_kg_m3: float = p(2180.0, 1500.0, 2500.0, "Density of the PTFE tube",
                                   "PTFE 2.13-2.20 g/cm^3 (ASTM D4894 resin datasheets)")
-    screw_diameter_mm: float = p(2.0, 1.6, 4.0, "Guide mounting screws (M2)", "Engineering default")
+    screw_diameter_mm: float = p(2.0, min(SCREWS), max(SCREWS), "Guide mounting screws (M2)",
+                                 "Engineering default; sizes of catalogues/fasteners.toml", choices=SCREWS)
 
 
 @dataclass(frozen=True)

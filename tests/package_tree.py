@@ -28,10 +28,10 @@ def package_dirs() -> dict[str, Path]:
 
 
 def assemble(dest: Path) -> Path:
-    """Copy every package's .py files to ``dest/<dotted path>``; returns ``dest`` (put it first on sys.path)."""
+    """Copy every package's .py (and .toml data) files to ``dest/<dotted path>``; returns ``dest`` (put it first on sys.path)."""
     for pkg, src in package_dirs().items():
         target = dest.joinpath(*pkg.split("."))
         target.mkdir(parents=True, exist_ok=True)
-        for f in src.glob("*.py"):
+        for f in [*src.glob("*.py"), *src.glob("*.toml")]:   # sources and the data tables they read
             shutil.copy2(f, target / f.name)
     return dest

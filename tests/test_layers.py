@@ -39,7 +39,8 @@ def _env(pythonpath: Path) -> dict:
 def test_every_repository_folder_is_mapped_into_swiftfin():
     dirs = package_dirs()
     assert all(name == "swiftfin" or name.startswith("swiftfin.") for name in dirs)
-    for folder in ("cad", "design_rules", "exports", "physics", "layout", "core", "calibration", "report"):
+    for folder in ("cad", "design_rules", "exports", "physics", "layout", "core", "calibration", "report",
+                   "catalogues"):
         assert dirs[f"swiftfin.{folder}"] == ROOT / folder
     # every folder of Python sources at the top of the repository is installed (none is forgotten)
     mapped = {p.resolve() for p in dirs.values()}
@@ -190,8 +191,11 @@ def test_the_wheel_installs_one_top_level_package_with_the_default_design(wheel)
     assert top == {"swiftfin"}
     assert "swiftfin/swiftfin.toml" in names
     assert zipfile.ZipFile(wheel).read("swiftfin/swiftfin.toml") == DEFAULT_DESIGN.read_bytes()
-    for sub in ("cad", "design_rules", "exports", "physics", "layout", "core", "calibration", "report", "commands"):
+    for sub in ("cad", "design_rules", "exports", "physics", "layout", "core", "calibration", "report", "commands",
+                "catalogues"):
         assert f"swiftfin/{sub}/__init__.py" in names
+    for table in ("fasteners.toml", "pins.toml"):         # the bought-parts tables travel with the code
+        assert f"swiftfin/catalogues/{table}" in names
 
 
 def test_installed_check_runs_the_shipped_design_from_an_empty_folder(wheel, tmp_path):

@@ -1,0 +1,124 @@
+"""Every screw and pin of the robot as numbers: where it goes, which way it points, what it joins, its length.
+
+A part family's plan (``layout/hull_plan.py``, ``layout/joints.py``, ...) places its fasteners as
+:class:`Fastener` records through the catalogue (``swiftfin.catalogues.fasteners``); the part modules cut the
+holes from the same records (``swiftfin.cad.fastening``), the assembly checks them on the solids
+(``swiftfin.exports.fastener_check``) and the bill of materials counts them. Nothing here imports the CAD kernel.
+
+Conventions (body frame at rest, mm):
+
+* ``head_mm`` is the centre of the head's bearing face (where the head meets the part it clamps) for a cap
+  screw, and the entry point of the hole for a set screw or a pin; ``axis`` is the unit vector from there into
+  the thread (the direction the screw advances when it is driven).
+* ``grip_mm``: from ``head_mm`` along the axis to where the thread starts holding: the face of the insert, the
+  bearing face of the nut, or the start of a self-tapped pilot. A set screw's grip is the material it passes
+  before its thread (0 when it starts in its insert or nut).
+* ``seat``: what the thread is cut in: ``"insert"`` (brass heat-set insert in ``thread_part``), ``"nut"`` (hex
+  nut in a trap in ``thread_part``), ``"self_tap"`` (a thread-forming screw in a printed pilot; never a set
+  screw), ``"press"`` / ``"slip"`` (a dowel pressed into, or turning in, a reamed bore).
+* ``recess_mm``: how far the head (or the nut, for ``seat = "nut"`` at the far end) sinks below the part's
+  surface in a counterbore; 0 for a head that sits on the surface.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from swiftfin.catalogues.fasteners import ScrewSize, fastener
+
+KINDS = ("cap_screw", "set_screw", "dowel")
+SEATS = ("insert", "nut", "self_tap", "press", "slip")
+
+
+@dataclass(frozen=True)
+class Fastener:
+    """One screw, set screw or pin, placed (body frame at rest, mm)."""
+    label: str                         # unique over the robot: "hull_head_seam_3"
+    size: str                          # catalogue name: "M2", or the pin diameter "3" for a dowel
+    kind: str                          # one of KINDS
+    seat: str                          # one of SEATS
+    head_mm: tuple[float, float, float]
+    axis: tuple[float, float, float]   # unit, from the head into the thread
+    length_mm: float                   # the catalogue length
+    grip_mm: float                     # head face -> start of the thread's hold
+    head_part: str | None              # part under the head (None: set screw, pin)
+    thread_part: str                   # part holding the thread (insert, nut, pilot, press fit)
+    joins: str                         # what it is for, in words (the BOM's "where")
+    link: int = 0                      # kinematic link of the parts it joins
+    recess_mm: float = 0.0
+    meta: dict = field(default_factory=dict, compare=False, hash=False)
+
+    @property
+    def screw(self) -> ScrewSize:
+        return fastener(self.size)
+
+    @property
+    def tip_mm(self) -> tuple[float, float, float]:
+        return tuple(float(h + self.length_mm * a) for h, a in zip(self.head_mm, self.axis))
+
+    def point_mm(self, distance_mm: float) -> np.ndarray:
+        """The point ``distance_mm`` along the axis from the head."""
+        return np.asarray(self.head_mm, dtype=float) + distance_mm * np.asarray(self.axis, dtype=float)
+
+    @property
+    def engagement_mm(self) -> float:
+        """Length of thread that holds: in an insert at most the insert's length, in a nut the nut's height."""
+        past = self.length_mm - self.grip_mm
+        if self.seat == "insert":
+            return min(past, self.screw.insert_length_mm)
+        if self.seat == "nut":
+            return min(past, self.screw.nut_height_mm)
+        return past
+
+    def problems(self) -> list[str]:
+        """What is wrong with the numbers alone (the solids are checked elsewhere)."""
+        out = []
+        if self.kind not in KINDS:
+            out.append(f"{self.label}: kind {self.kind!r} is not one of {KINDS}")
+        if self.seat not in SEATS:
+            out.append(f"{self.label}: seat {self.seat!r} is not one of {SEATS}")
+        if abs(math.hypot(*self.axis) - 1.0) > 1e-6:
+            out.append(f"{self.label}: axis {self.axis} is not a unit vector")
+        if self.kind == "set_screw" and self.seat == "self_tap":
+            out.append(f"{self.label}: a set screw cannot cut its own thread (seat it in an insert or a nut)")
+        if self.kind != "dowel":
+            s = self.screw
+            offer = s.set_screw_lengths_mm if self.kind == "set_screw" else s.lengths_mm
+            if not any(abs(self.length_mm - x) < 1e-9 for x in offer):
+                out.append(f"{self.label}: {self.size} x {self.length_mm:g} mm is not a catalogue length "
+                           f"({', '.join(f'{x:g}' for x in offer)})")
+            if self.seat == "nut":
+                if self.length_mm - self.grip_mm < s.nut_height_mm + s.pitch_mm - 1e-9:
+                    out.append(f"{self.label}: {self.size} x {self.length_mm:g} mm reaches "
+                               f"{self.length_mm - self.grip_mm:.2f} mm past the nut's face; the nut needs "
+                               f"{s.nut_height_mm + s.pitch_mm:.2f} mm (its height and one pitch)")
+            elif self.engagement_mm < s.engagement_min_mm - 1e-9:
+                out.append(f"{self.label}: thread engagement {self.engagement_mm:.2f} mm < 1.5 x {self.size} = "
+                           f"{s.engagement_min_mm:.2f} mm")
+        return out
+
+
+def screw_length(size: ScrewSize, grip_mm: float, seat: str, room_mm: float | None = None,
+                 set_screw: bool = False) -> float | None:
+    """The catalogue length for a screw clamping ``grip_mm`` into ``seat``: the shortest that gives full
+    engagement (the insert's length, the nut and one pitch, or 1.5 d of self-tapped thread), and no longer
+    than ``room_mm`` (the depth the thread part offers past the head face) when that is given; None if none
+    fits."""
+    need = {"insert": size.insert_length_mm, "nut": size.nut_height_mm + size.pitch_mm}.get(
+        seat, size.engagement_min_mm)
+    length = size.length_for(grip_mm + max(need, size.engagement_min_mm if seat != "nut" else need),
+                             set_screw=set_screw)
+    if length is None or (room_mm is not None and length > room_mm + 1e-9):
+        return None
+    return length
+
+
+def check_unique(fasteners) -> list[str]:
+    seen, out = set(), []
+    for f in fasteners:
+        if f.label in seen:
+            out.append(f"fastener label {f.label!r} is used twice")
+        seen.add(f.label)
+    return out
