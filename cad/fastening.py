@@ -11,6 +11,7 @@ them (labels unique, every record's own numbers checked).
 """
 from __future__ import annotations
 
+import functools
 import importlib
 import math
 
@@ -28,6 +29,7 @@ OVERCUT_MM = 0.5
 """Cutters run this far past the faces they open, so no zero-thickness skin is left."""
 
 
+@functools.lru_cache(maxsize=8)
 def all_fasteners(p: Params) -> tuple[Fastener, ...]:
     """Every fastener of the design, family by family; BuildError if a record is inconsistent."""
     out: list[Fastener] = []
@@ -103,4 +105,31 @@ def seat_cutters(f: Fastener, open_mm: float = 0.0) -> list[bd.Solid]:
         out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.pilot_hole_mm / 2, past + 1.0 + OVERCUT_MM))
     else:
         raise BuildError(f"{f.label}: seat {f.seat!r} has no cutter for a {f.kind}")
+    return out
+
+
+def cutters_for(p: Params, label: str) -> list[bd.Solid]:
+    """Every cut the fasteners ask of the part ``label``: head holes where it is a head part, seats where it is
+    a thread part."""
+    out: list[bd.Solid] = []
+    for f in all_fasteners(p):
+        if f.head_part == label:
+            out += head_cutters(f)
+        if f.thread_part == label:
+            out += seat_cutters(f, open_mm=float(f.meta.get("nut_open_mm", 0.0)))
+    return out
+
+
+def apply_fasteners(p: Params, specs: list) -> list:
+    """The family's parts with their fastener holes cut (printed parts only: a bought part comes with its own
+    threads). A part that falls apart under its holes is a BuildError naming it."""
+    from dataclasses import replace
+
+    from swiftfin.cad.link import one_solid
+    out = []
+    for s in specs:
+        cuts = cutters_for(p, s.label) if s.printed else []
+        if cuts:
+            s = replace(s, solid=one_solid(s.solid.cut(*cuts), f"{s.label} (with its fastener holes)"))
+        out.append(s)
     return out

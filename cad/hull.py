@@ -45,7 +45,8 @@ import numpy as np
 from swiftfin.layout import geometry as L
 from swiftfin.cad.kernel import bd
 from swiftfin.layout.fin_plan import tang_dims_mm
-from swiftfin.cad.link import JointHardware, all_joint_hardware, box, isect, one_solid, pie, rod, vcyl
+from swiftfin.cad.clevis import clevis_add, clevis_bores, clevis_cut
+from swiftfin.cad.link import JointHardware, all_joint_hardware, box, isect, one_solid, rod
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.schema import Params
 
@@ -144,43 +145,6 @@ def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
     return out
 
 
-def _clevis_cut(h: JointHardware, p: Params) -> list[bd.Solid]:
-    """Room in the parent's rear end for the parts of the link that swing (sector, window column, tongue)."""
-    ca, cs = p.print.clearance_assembly_mm, p.print.clearance_sliding_mm
-    x = h.x_mm
-    sweep = h.tongue_half_deg + h.stop_deg + 1.0
-    out = [pie(x, h.tongue_radius_mm + ca, -sweep, sweep, h.z_knuckle_lo_mm - cs, h.z_window_lo_mm + 0.01),
-           vcyl(x, 0, h.knuckle_radius_mm + ca, h.z_knuckle_lo_mm - cs, h.z_sector_lo_mm + 0.01),
-           vcyl(x, 0, h.sector_radius_mm + ca, h.z_sector_lo_mm - cs, h.z_sector_hi_mm + cs)]
-    return out
-
-
-def _clevis_add(h: JointHardware, p: Params) -> list[bd.Solid]:
-    """Lugs and stop blocks on the parent's rear bulkhead."""
-    x = h.x_mm
-    cs = p.print.clearance_sliding_mm
-    x_front = x + h.gap_half_mm + p.hull.bulkhead_thickness_mm - 0.01
-    rl = h.lug_radius_mm
-    out = []
-    for z0, z1 in (h.lower_lug_mm, h.upper_lug_mm):
-        out += [box(x, x_front, -rl, rl, z0, z1), vcyl(x, 0, rl, z0, z1)]
-    lo = h.lower_lug_mm
-    a_out = h.tongue_half_deg + h.stop_deg + h.block_span_deg
-    out.append(pie(x, h.block_outer_radius_mm, -a_out, a_out, *lo))
-    for sgn in (1, -1):
-        a0 = h.tongue_half_deg + h.stop_deg
-        a_lo, a_hi = (a0, a0 + h.block_span_deg) if sgn > 0 else (-a0 - h.block_span_deg, -a0)
-        block = pie(x, h.block_outer_radius_mm, a_lo, a_hi, lo[1] - 0.01, h.z_window_lo_mm - cs)
-        block = block.cut(vcyl(x, 0, h.knuckle_radius_mm + cs, lo[1] - 1, h.z_window_lo_mm))
-        out.append(block)
-    return out
-
-
-def _clevis_bores(h: JointHardware) -> list[bd.Solid]:
-    x = h.x_mm
-    return [vcyl(x, 0, h.bore_radius_mm, z0 - 1, z1 + 1) for z0, z1 in (h.lower_lug_mm, h.upper_lug_mm)]
-
-
 def _bolt_holes(h: JointHardware, p: Params) -> list[bd.Solid]:
     x0 = h.x_mm - h.gap_half_mm + 1.0
     return [rod((x0, y, z), (-1, 0, 0), h.bolt_hole_diameter_mm / 2, p.hull.bulkhead_thickness_mm + 2.0)
@@ -259,9 +223,9 @@ def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
     adds, cuts = [], []
     if pc.rear_joint is not None:
         h = hw[pc.rear_joint]
-        body = body.cut(*_clevis_cut(h, p))
-        adds += _clevis_add(h, p)
-        cuts += _clevis_bores(h)
+        body = body.cut(*clevis_cut(h, p))
+        adds += clevis_add(h, p)
+        cuts += clevis_bores(h)
     if pc.front_joint is not None:
         cuts += _bolt_holes(hw[pc.front_joint], p)
     if pc.rear_cut:

@@ -15,5 +15,16 @@ FAMILIES: dict[str, str] = {
 
 
 def family_function(name: str):
+    """``function(params) -> list[PartSpec]`` of the family, with every fastener's holes cut in its parts
+    (:func:`swiftfin.cad.fastening.apply_fasteners`): the families make the material (bosses, tabs), the
+    fastener records decide the holes, so the two parts a screw joins always agree."""
     module, func = FAMILIES[name].split(":")
-    return getattr(importlib.import_module(module), func)
+    make = getattr(importlib.import_module(module), func)
+
+    def build(p):
+        from swiftfin.cad.fastening import apply_fasteners
+        return apply_fasteners(p, make(p))
+
+    build.__name__ = build.__qualname__ = func
+    build.__doc__ = make.__doc__
+    return build

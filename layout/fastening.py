@@ -16,6 +16,8 @@ Conventions (body frame at rest, mm):
 * ``seat``: what the thread is cut in: ``"insert"`` (brass heat-set insert in ``thread_part``), ``"nut"`` (hex
   nut in a trap in ``thread_part``), ``"self_tap"`` (a thread-forming screw in a printed pilot; never a set
   screw), ``"press"`` / ``"slip"`` (a dowel pressed into, or turning in, a reamed bore).
+* ``installed_after``: labels of parts that go on after this fastener is driven; the key's path from the head
+  outward may cross where they will be (a link screwed on from inside a segment whose upper half is still off).
 * ``recess_mm``: how far the head (or the nut, for ``seat = "nut"`` at the far end) sinks below the part's
   surface in a counterbore; 0 for a head that sits on the surface.
 """
@@ -48,6 +50,7 @@ class Fastener:
     joins: str                         # what it is for, in words (the BOM's "where")
     link: int = 0                      # kinematic link of the parts it joins
     recess_mm: float = 0.0
+    installed_after: tuple[str, ...] = ()   # parts put on after it is driven: its key may pass where they go
     meta: dict = field(default_factory=dict, compare=False, hash=False)
 
     @property

@@ -193,10 +193,17 @@ def module_closure(*names: str) -> dict[str, Path]:
     return seen
 
 
+DATA_PACKAGES = ("swiftfin.catalogues",)
+"""Packages whose modules read data files beside them (``*.toml``): those files count as their source."""
+
+
 def source_hash(*module_names: str) -> str:
     h = hashlib.sha256()
     for name, path in sorted(module_closure(*module_names).items()):
         h.update(name.encode() + b"\0" + path.read_bytes() + b"\0")
+        if name.startswith(DATA_PACKAGES):
+            for data in sorted(path.parent.glob("*.toml")):
+                h.update(data.name.encode() + b"\0" + data.read_bytes() + b"\0")
     return h.hexdigest()
 
 

@@ -92,8 +92,12 @@ def _check_bed(spec: PartSpec, size, p: Params) -> None:
 
 
 def family_modules(name: str) -> tuple[str, ...]:
-    """Source modules a family's cached output depends on (their imports are followed by the cache)."""
-    return (FAMILIES[name].split(":")[0], "swiftfin.exports.files", "swiftfin.cad.part", "swiftfin.cache")
+    """Source modules a family's cached output depends on (their imports are followed by the cache): the family,
+    the registry that cuts every fastener's holes in its parts, and every plan that places fasteners."""
+    from swiftfin.cad.fastening import FASTENER_PLANS
+    plans = tuple(sorted({ref.split(":")[0] for ref in FASTENER_PLANS.values()}))
+    return (FAMILIES[name].split(":")[0], "swiftfin.cad.registry", "swiftfin.cad.fastening", *plans,
+            "swiftfin.exports.files", "swiftfin.cad.part", "swiftfin.cache")
 
 
 def _content_key(spec: PartSpec, brep: bytes) -> str:
