@@ -95,9 +95,9 @@ def seat_cutters(f: Fastener, open_mm: float = 0.0) -> list[bd.Solid]:
         out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.insert_hole_mm / 2,
                         s.insert_pocket_depth_mm + OVERCUT_MM))
         beyond = past - s.insert_pocket_depth_mm
-        if beyond > -OVERCUT_MM:   # the screw's tip runs on past the insert: room for it
+        if beyond > 0:   # the screw's tip runs on past the insert's pocket: room for it, and half a mm more
             out.append(_rod(f.point_mm(f.grip_mm + s.insert_pocket_depth_mm - 0.01), a,
-                            s.clearance_hole_mm / 2, max(beyond, 0.0) + 2 * OVERCUT_MM))
+                            s.clearance_hole_mm / 2, beyond + OVERCUT_MM + 0.01))
     elif f.seat == "nut":
         out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.clearance_hole_mm / 2, past + 2 * OVERCUT_MM))
         out.append(_hex_prism(f.point_mm(f.grip_mm), a, s.nut_trap_width_mm, s.nut_trap_depth_mm + open_mm))

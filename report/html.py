@@ -31,7 +31,8 @@ from swiftfin.core.schema import Params
 from swiftfin.report.assets import CSS, FAMILY_COLORS, OTHER_COLOR
 from swiftfin.report.markup import esc
 from swiftfin.report.robot import robot_section
-from swiftfin.report.sections import (FIT_REPORT_NAME, MASS_PROPERTIES_NAME, assembly_section, audit_section,
+from swiftfin.report.sections import (BOM_NAME, FIT_REPORT_NAME, MASS_PROPERTIES_NAME, assembly_section, audit_section,
+                                      bom_section, read_bom,
                                       fit_section, mass_section, overview_section, parts_section, plot_section,
                                       rules_section, sorted_findings)
 
@@ -41,7 +42,8 @@ __all__ = ["ASSEMBLY_VIEW_FACE_FRACTION", "FIT_REPORT_NAME", "MASS_PROPERTIES_NA
 
 REPORT_NAME = "report.html"
 
-SECTIONS = (("overview", "Overview"), ("assembly", "Assembly"), ("parts", "Parts"), ("rules", "Design rules"),
+SECTIONS = (("overview", "Overview"), ("assembly", "Assembly"), ("parts", "Parts"), ("bom", "Bill of materials"),
+            ("rules", "Design rules"),
             ("mass", "Mass"), ("robot", "Robot"), ("efficiency", "Efficiency"), ("tailbeat", "Tail-beat"), ("wave", "Body wave"),
             ("audit", "Paper audit"), ("fit", "Fit"))
 
@@ -150,8 +152,9 @@ class ReportTiming:
 def build_page(params: Params, parts=None, mass_properties: dict | None = None, fit_dir=None, *, findings,
                audit, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
                mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None,
-               jobs: int | None = 1, robot_dir: Path | None = None, swim: list[dict] | None = None) -> str:
-    """The report page as a string (see :func:`write_report`)."""
+               jobs: int | None = 1, robot_dir: Path | None = None, swim: list[dict] | None = None,
+               bom: list[dict] | None = None) -> str:
+    """The report page as a string (see :func:`write_report`). ``bom``: the rows of the build's ``bom.csv``."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
     t_start = time.perf_counter()
@@ -183,6 +186,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
         "overview": overview_section(params, rparts, mass_properties, findings, audit, params_name),
         "assembly": assembly_section(pics, rparts or []),
         "parts": parts_section(params, rparts, part_pics, mass_properties),
+        "bom": bom_section(bom),
         "rules": rules_section(findings),
         "mass": mass_section(params, mass_properties, mass_note),
         "robot": robot_section(robot_dir, robot_pic, swim),
@@ -226,16 +230,18 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     ``fit_dir``: a ``swiftfin fit`` output folder; ``findings`` / ``audit``: the design rules' findings and the
     paper audit's entries, computed by the caller (the report shows, it does not compute); ``plots``: the
     (efficiency, tail-beat, wave) plots of :func:`standard_plots` when the caller has them (its cache). The robot
-    section reads ``out_dir/robot/`` when the folder holds a build's simulator files; ``swim``: the swimming
+    section reads ``out_dir/robot/`` when the folder holds a build's simulator files, the bill of materials
+    ``out_dir/bom.csv`` when the build wrote one; ``swim``: the swimming
     results of ``swiftfin.pipeline.swim_results`` to show there.
     The file is written to a temporary name and renamed, so a failed report never leaves half a page.
     """
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     robot_dir = out / "robot" if (out / "robot" / "swiftfin.urdf").is_file() else None
+    bom = read_bom(out / BOM_NAME) if (out / BOM_NAME).is_file() else None
     page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
                       params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots,
-                      jobs=jobs, robot_dir=robot_dir, swim=swim)
+                      jobs=jobs, robot_dir=robot_dir, swim=swim, bom=bom)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")

@@ -13,6 +13,7 @@ from swiftfin.report.markup import badge, esc, img, notice, num, table, tile
 
 #: the build folder's mass properties (exports) and a fit folder's report (calibration), named on the page
 MASS_PROPERTIES_NAME = "mass_properties.json"
+BOM_NAME = "bom.csv"
 FIT_REPORT_NAME = "fit_report.json"
 
 
@@ -287,3 +288,25 @@ def fit_section(fit_dir: Path | None) -> str:
         out.append(notice(f"No plots (*.png) in {esc(fit_dir)}."))
     return "".join(out)
 
+
+
+def read_bom(path: Path) -> list[dict] | None:
+    """The rows of a build's ``bom.csv`` (None if it is not readable: the section says so)."""
+    import csv
+    try:
+        with open(path, newline="", encoding="utf-8") as fh:
+            return list(csv.DictReader(fh))
+    except (OSError, UnicodeDecodeError, csv.Error):
+        return None
+
+
+def bom_section(rows: list[dict] | None) -> str:
+    if rows is None:
+        return notice("No bill of materials: this report was not made by a build (or its bom.csv is unreadable).")
+    body = [[esc(r.get("item", "")), esc(r.get("spec", "")), esc(r.get("quantity", "")), esc(r.get("unit", "")),
+             esc(r.get("where", "")), esc(r.get("source", ""))] for r in rows]
+    n = sum(1 for r in rows if r.get("unit") == "pcs" and str(r.get("quantity", "")).isdigit())
+    return (f"<p>Every bought item of this build ({len(rows)} lines; <code>bom.csv</code> in the build folder): the "
+            f"fasteners as the parts place them, the bought parts, each cable side's cut length, and what the part "
+            f"families declare. {n} of the lines are counted in pieces.</p>"
+            + table(["Item", "Size", "Qty", "Unit", "Where", "Source"], body, cls="bom"))

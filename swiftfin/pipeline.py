@@ -53,6 +53,7 @@ class BuildResult:
     family_times_s: dict[str, float] = field(default_factory=dict)
     check_time_s: float = 0.0
     assembly_stats: dict = field(default_factory=dict)
+    fastener_report: object = None     # cad.fastener_check.FastenerReport
 
 
 def _one_solid(spec: PartSpec):
@@ -229,7 +230,20 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
               for b in result.parts]
     passed = PassedPairs(cache.root / "assembly-pairs") if cache is not None else None
     result.assembly_stats = check_assembly(result.params, placed, progress=progress, passed=passed)
+    result.fastener_report = check_fasteners_built(result, placed)
     result.check_time_s = time.perf_counter() - t0
+
+
+def check_fasteners_built(result: BuildResult, placed=None):
+    """The fastener rules on the built solids (cad/fastener_check.py); BuildError lists every failure."""
+    from swiftfin.cad.assembly import Placed
+    from swiftfin.cad.fastener_check import check_fasteners
+    from swiftfin.cad.fastening import all_fasteners
+
+    if placed is None:
+        placed = [Placed(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
+                  for b in result.parts]
+    return check_fasteners(result.params, all_fasteners(result.params), {q.label: q.manifold for q in placed})
 
 
 # --------------------------------------------------------------------------------------------- writing
@@ -285,6 +299,7 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
     robot = write_robot(result.params, [b.spec for b in result.parts], folder,
                         meshes={b.spec.label: b.export.mesh for b in result.parts}, memo=memo, jobs=build_jobs(),
                         ros2_package=ros2_package)
+    bom_file = write_bom(result, folder)
     if progress:
         progress("  design report ...")
     plots = None
@@ -299,10 +314,26 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
         swimming = swim_results(folder / "robot" / "swiftfin.xml", result.params, build_jobs())
     report_for_build(result, folder, params_file.name, progress=progress, memo=memo, plots=plots, swim=swimming)
     entries = []
-    for rel in sorted(robot["files"]) + ["report.html"]:
+    for rel in sorted(robot["files"]) + [bom_file, "report.html"]:
         data = (folder / rel).read_bytes()
         entries.append({"path": rel, "sha256": sha256_bytes(data), "bytes": len(data)})
     return entries
+
+
+def write_bom(result: BuildResult, folder: Path) -> str:
+    """``bom.csv`` (exports/bom.py) into ``folder``, with the trim ballast from the build's mass properties;
+    returns its name."""
+    from swiftfin.cad.fastening import all_fasteners
+    from swiftfin.exports.bom import bom_csv, bom_lines
+    from swiftfin.report.sections import BOM_NAME, MASS_PROPERTIES_NAME
+
+    mp = None
+    mpath = folder / MASS_PROPERTIES_NAME
+    if mpath.is_file():
+        mp = json.loads(mpath.read_text())
+    lines = bom_lines(result.params, [b.spec for b in result.parts], all_fasteners(result.params), mp)
+    (folder / BOM_NAME).write_text(bom_csv(lines), encoding="utf-8")
+    return BOM_NAME
 
 
 def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | None = None,

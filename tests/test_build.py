@@ -147,8 +147,19 @@ def test_default_design_builds_end_to_end(env, capsys):
     assert leftovers(env) == []
     listed = {f["path"] for f in manifest["files"]}
     for rel in ("robot/swiftfin.urdf", "robot/swiftfin.xml", "robot/swiftfin.sdf", "mass_properties.json",
-                "report.html", "assembly.step"):
+                "report.html", "assembly.step", "bom.csv"):
         assert rel in listed and (env / "build" / rel).is_file()
+    # the bill of materials counts every fastener of the design and shows in the report
+    from swiftfin.cad.fastening import all_fasteners
+    from swiftfin.exports.bom import read_bom_csv
+    from swiftfin.layout.design import load_design
+    rows = read_bom_csv((env / "build" / "bom.csv").read_text())
+    screws = sum(int(r["quantity"]) for r in rows if r["item"] in ("Socket head cap screw", "Set screw, flat point"))
+    fasteners = all_fasteners(load_design(DEFAULT_DESIGN))
+    assert screws == sum(1 for f in fasteners if f.kind != "dowel")
+    assert sum(int(r["quantity"]) for r in rows if r["item"] == "Stepper motor") == 4
+    page = (env / "build" / "report.html").read_text()
+    assert 'id="bom"' in page and "Heat-set insert" in page
     # a build without the cache (every solid made afresh in this process) lists the same files and hashes,
     # STEP included (fixed header dates, occurrence ids renumbered per file)
     assert main(["build", str(DEFAULT_DESIGN), "--out", "fresh", "--no-cache"]) == 0

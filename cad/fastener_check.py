@@ -1,0 +1,267 @@
+"""The fastener rules, checked on the built solids (meshes of the parts at rest, body frame, mm).
+
+For every :class:`~swiftfin.layout.fastening.Fastener` of the design (issue 12, item 2):
+
+1. **Wall round every hole** >= ``rules.wall_min_line_widths`` extrusion lines (two perimeters); round a heat-set
+   insert's pocket the larger of that and the insert maker's wall (``ScrewSize.insert_wall_min_mm``), which is
+   the boss rule "insert boss OD >= insert + walls" measured on the solid. Measured by rays: at several depths
+   along the hole and in :data:`RAY_DIRECTIONS` directions round its axis, a ray starts just inside the hole's
+   wall and runs outward; the distance to the first surface it leaves the material through is the wall there.
+   A ray that starts in empty space (the hole breaks out of the part, or the boss is missing) measures 0.
+2. **Thread engagement**: the thread part has material round the seat over the whole engagement (every depth
+   sampled in the insert, the nut trap or the pilot starts in material); the numbers (>= 1.5 d, or a nut's
+   height and a pitch) are checked by :meth:`Fastener.problems`, the catalogue length too.
+3. **The tool's path**: a cylinder of the driver's shank (``key_reach_diameter_mm``) from the head's top (a set
+   screw's entry) outward along the axis for :data:`TOOL_REACH_MM` meets no part but those put on after the
+   fastener is driven (``installed_after``).
+
+Depths of the head part where every ray starts in empty space (an air gap between the clamped parts) are
+skipped; the head part must have material at one depth at least (the head bears on something).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swiftfin.core.errors import BuildError
+from swiftfin.core.schema import Params
+from swiftfin.layout.fastening import Fastener
+
+RAY_DIRECTIONS = 12
+"""Rays round the axis at each depth (every 30 deg)."""
+DEPTHS = 4
+"""Depths sampled along each hole (evenly, 0.3 mm inside its ends)."""
+RAY_LENGTH_MM = 25.0
+"""How far a wall ray looks: a wall thicker than this is reported as this."""
+START_INSET_MM = 0.05
+"""Rays start this far outside the hole's nominal radius (inside the wall, past the tessellation of the hole)."""
+TOOL_REACH_MM = 50.0
+"""Length of the driver that must reach the head: a precision screwdriver's shank (Wera/Wiha: 40-60 mm)."""
+TOOL_OVERLAP_MM3 = 0.5
+"""Overlap of the tool's cylinder with a part that counts as a collision [mm^3] (tessellation noise is far less)."""
+
+
+@dataclass(frozen=True)
+class WallMeasure:
+    """The thinnest wall found round one hole of one fastener in one part."""
+    fastener: str
+    part: str
+    feature: str              # "clearance hole", "counterbore", "insert pocket", "nut trap", "pilot", "pin bore"
+    wall_mm: float
+    limit_mm: float
+    where_mm: tuple[float, float, float]
+
+    @property
+    def ok(self) -> bool:
+        return self.wall_mm >= self.limit_mm - 1e-6
+
+    def __str__(self) -> str:
+        at = ", ".join(f"{c:.1f}" for c in self.where_mm)
+        return (f"{self.part}: wall round the {self.feature} of {self.fastener} is {self.wall_mm:.2f} mm at ({at}) mm, "
+                f"needs {self.limit_mm:.2f} mm")
+
+
+@dataclass
+class FastenerReport:
+    fasteners: tuple[Fastener, ...]
+    walls: list[WallMeasure]
+    problems: list[str]
+
+    def worst_wall(self) -> WallMeasure | None:
+        return min(self.walls, key=lambda w: w.wall_mm - w.limit_mm, default=None)
+
+    def per_part(self) -> dict[str, int]:
+        out: dict[str, int] = {}
+        for f in self.fasteners:
+            for part in {f.head_part, f.thread_part} - {None}:
+                out[part] = out.get(part, 0) + 1
+        return dict(sorted(out.items()))
+
+
+def _frame(axis) -> tuple[np.ndarray, np.ndarray]:
+    a = np.asarray(axis, dtype=float)
+    ref = np.array([0.0, 0.0, 1.0]) if abs(a[2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    u = np.cross(a, ref)
+    u /= np.linalg.norm(u)
+    return u, np.cross(a, u)
+
+
+def _holes(f: Fastener, line_width_mm: float, walls: float) -> list[tuple[str, str, float, float, float, float]]:
+    """(part, feature, radius, depth0, depth1, limit) of every hole the fastener makes (depths along the axis
+    from ``head_mm``)."""
+    need = walls * line_width_mm
+    out = []
+    if f.kind == "dowel":
+        return [(f.thread_part, "pin bore", float(f.size) / 2, 0.0, f.length_mm, need)]
+    s = f.screw
+    if f.head_part is not None and f.grip_mm > 0:
+        out.append((f.head_part, "clearance hole", s.clearance_hole_mm / 2, 0.0, f.grip_mm, need))
+    g = f.grip_mm
+    if f.seat == "insert":
+        out.append((f.thread_part, "insert pocket", s.insert_hole_mm / 2, g, g + s.insert_length_mm,
+                    max(need, s.insert_wall_min_mm)))
+    elif f.seat == "nut":
+        out.append((f.thread_part, "nut trap", s.nut_trap_width_mm / math.sqrt(3.0), g, g + s.nut_height_mm, need))
+    elif f.seat == "self_tap":
+        out.append((f.thread_part, "pilot", s.pilot_hole_mm / 2, g, f.length_mm, need))
+    return out
+
+
+def _ray_wall(man, start: np.ndarray, direction: np.ndarray) -> float:
+    """Distance from ``start`` (just inside a hole's wall) to where the ray leaves the material; 0 if it starts
+    in empty space."""
+    end = start + RAY_LENGTH_MM * direction
+    hits = man.ray_cast(tuple(map(float, start)), tuple(map(float, end)))
+    if not hits:
+        return 0.0                         # no surface ahead: the start was outside the part
+    h = hits[0]
+    if float(np.dot(h.normal, direction)) <= 0:
+        return 0.0                         # the first surface is entered: the start was in empty space
+    return float(h.distance) * RAY_LENGTH_MM
+
+
+def measure_walls(f: Fastener, manifolds: dict, line_width_mm: float, walls: float = 2.0
+                  ) -> tuple[list[WallMeasure], list[str]]:
+    """The thinnest wall round each hole of ``f`` (one measure per hole), and the problems found on the way."""
+    u, v = _frame(f.axis)
+    a = np.asarray(f.axis, dtype=float)
+    out, problems = [], []
+    for part, feature, r, d0, d1, limit in _holes(f, line_width_mm, walls):
+        man = manifolds.get(part)
+        if man is None:
+            problems.append(f"{f.label}: its {feature} is in {part!r}, which is not a part of the build")
+            continue
+        lo, hi = d0 + 0.3, d1 - 0.3
+        depths = np.linspace(lo, hi, DEPTHS) if hi > lo else np.array([(d0 + d1) / 2])
+        worst, where, in_material = math.inf, None, 0
+        is_head = feature == "clearance hole"
+        for d in depths:
+            centre = np.asarray(f.head_mm, dtype=float) + d * a
+            row = []
+            for k in range(RAY_DIRECTIONS):
+                ang = 2 * math.pi * k / RAY_DIRECTIONS
+                w = math.cos(ang) * u + math.sin(ang) * v
+                start = centre + (r + START_INSET_MM) * w
+                row.append((_ray_wall(man, start, w), start))
+            if all(x[0] == 0.0 for x in row):
+                continue                   # all void: an air gap between clamped parts (a thread part: see below)
+            in_material += 1
+            wall, pt = min(row, key=lambda x: x[0])
+            if wall < worst:
+                worst, where = wall, pt
+        if in_material == 0 or (not is_head and in_material < len(depths)):
+            near = tuple(round(float(c), 1) for c in f.point_mm(d0))
+            what = "no material" if in_material == 0 else f"material at only {in_material} of {len(depths)} depths"
+            problems.append(f"{f.label}: {what} of {part} round its {feature} (between {d0:.1f} and "
+                            f"{d1:.1f} mm from the head, from {near} mm)")
+            if in_material == 0:
+                continue
+        m = WallMeasure(f.label, part, feature, worst, limit, tuple(float(c) for c in where))
+        out.append(m)
+        if not m.ok:
+            problems.append(str(m))
+    return out, problems
+
+
+def tool_path_problems(f: Fastener, manifolds: dict) -> list[str]:
+    """Parts the driver's cylinder meets on its way to the head (none but those put on after ``f``)."""
+    if f.kind == "dowel":
+        return []
+    import manifold3d as m3d
+
+    s = f.screw
+    a = np.asarray(f.axis, dtype=float)
+    start = f.point_mm(-(s.head_height_mm if f.kind == "cap_screw" else 0.0) - 0.1)
+    r = s.key_reach_diameter_mm / 2
+    tool = m3d.Manifold.cylinder(TOOL_REACH_MM, r, r, 24)
+    # cylinder along +z from the origin -> along -axis from ``start``
+    z = -a
+    x = np.cross(z, [1.0, 0.0, 0.0] if abs(z[0]) < 0.9 else [0.0, 1.0, 0.0])
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    mat = np.column_stack([x, y, z, start])
+    tool = tool.transform(mat)
+    lo, hi = np.asarray(tool.bounding_box()[:3]), np.asarray(tool.bounding_box()[3:])
+    out = []
+    for label, man in manifolds.items():
+        if label in f.installed_after:
+            continue
+        bb = man.bounding_box()
+        if np.any(np.asarray(bb[:3]) > hi) or np.any(np.asarray(bb[3:]) < lo):
+            continue
+        vol = (tool ^ man).volume()
+        if vol > TOOL_OVERLAP_MM3:
+            out.append(f"{f.label}: the driver's path to its head ({2 * r:g} mm shank, {TOOL_REACH_MM:g} mm along "
+                       f"the axis from {tuple(round(c, 1) for c in start)}) runs into {label} ({vol:.1f} mm^3)")
+    return out
+
+
+def check_fasteners(p: Params, fasteners, manifolds: dict, raise_on_failure: bool = True) -> FastenerReport:
+    """Every fastener rule on the solids. ``manifolds``: label -> manifold3d.Manifold of every part at rest.
+    Raises BuildError listing every failure (``raise_on_failure``), else returns them in the report."""
+    fasteners = tuple(fasteners)
+    walls, problems = [], []
+    lw, n = p.print.line_width_mm, p.rules.wall_min_line_widths
+    for f in fasteners:
+        problems += f.problems()
+        w, pr = measure_walls(f, manifolds, lw, n)
+        walls += w
+        problems += pr
+        problems += tool_path_problems(f, manifolds)
+    report = FastenerReport(fasteners, walls, problems)
+    if problems and raise_on_failure:
+        raise BuildError(f"{len(problems)} fastener check(s) failed:\n" + "\n".join(f"  - {x}" for x in problems))
+    return report
+
+
+# --------------------------------------------------------------------------------------------- mating pairs
+@dataclass(frozen=True)
+class Glued:
+    """A pair of parts joined by glue instead of fasteners, with the bonded area and why."""
+    a: str                 # regular expressions over the labels, as in cad/assembly.py's Contact
+    b: str
+    area_mm2: float
+    reason: str
+
+
+GLUED: tuple[Glued, ...] = ()
+"""Pairs declared glued (none in the default design: every joint comes apart for service)."""
+
+
+def joined_parts(f: Fastener) -> set[str]:
+    """The parts a fastener holds together: the head's and the thread's, and what its record names in
+    ``meta["joins_parts"]`` (the shaft a set screw bears on, the lug a pin turns in)."""
+    return ({f.head_part, f.thread_part} | set(f.meta.get("joins_parts", ()))) - {None}
+
+
+def unfastened_contacts(p: Params, placed, fasteners, glued=GLUED) -> list[str]:
+    """Pairs of the contact table (cad/assembly.py) that touch at rest (gap <= print.clearance_sliding_mm) and are
+    neither joined by a fastener nor declared glued."""
+    import re
+
+    from swiftfin.cad.assembly import contact_reason
+
+    pairs = [joined_parts(f) for f in fasteners]
+    gap = p.print.clearance_sliding_mm
+    out = []
+    for i, a in enumerate(placed):
+        for b in placed[i + 1:]:
+            reason = contact_reason(a, b, p=p)
+            if reason is None:
+                continue
+            lo = np.maximum(a.vertices.min(axis=0), b.vertices.min(axis=0))
+            hi = np.minimum(a.vertices.max(axis=0), b.vertices.max(axis=0))
+            if np.any(lo - hi > gap):
+                continue
+            if a.manifold.min_gap(b.manifold, gap) > gap:
+                continue
+            if any({a.label, b.label} <= j for j in pairs):
+                continue
+            if any((re.fullmatch(g.a, a.label) and re.fullmatch(g.b, b.label))
+                   or (re.fullmatch(g.a, b.label) and re.fullmatch(g.b, a.label)) for g in glued):
+                continue
+            out.append(f"{a.label} and {b.label} touch ({reason}) but no fastener joins them and they are not "
+                       f"declared glued")
+    return out

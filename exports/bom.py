@@ -1,0 +1,165 @@
+"""The bill of materials: every bought item of the build with its quantity, size and where it goes.
+
+One :class:`BomLine` per kind of item (screws of one size and length together, each cable side on its own line
+since each has its own cut length). Sources of the lines:
+
+* fasteners: :func:`swiftfin.cad.fastening.all_fasteners` (screws, set screws, heat-set inserts, nuts, dowel pins,
+  and what a record's ``meta`` adds: washers ``meta["washer"]``, clips ``meta["clip"]``);
+* bought parts: the parts of the build that are not printed (motors, battery, electronics ...), with their
+  catalogue masses; the lumped mass placeholders among ``params.components`` are listed as such;
+* cables: per joint and side, the cut length = route at rest (:func:`swiftfin.layout.geometry.cable_routes`) +
+  its share of the spool wrap (half of ``spool.wraps`` turns round the drum's cable circle, plus the groove
+  margin) + the anchor runs at both ends + ``CABLE_TAIL_MM`` at each end for the crimp or knot and handling;
+* extra lines a part family declares (``PartSpec.meta["bom"]``: a list of dicts with the BomLine fields), e.g.
+  PTFE tube cut lengths, crimp sleeves, a tensioner's bought pieces;
+* the trim ballast (lead), from the mass model when the build computed one.
+
+Written as ``bom.csv`` (:func:`bom_csv`) and shown in the report.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass
+
+from swiftfin.core.schema import Params
+
+CABLE_TAIL_MM = 40.0
+"""Cable left over at each end for the crimp loop or knot and for handling while tensioning [mm]: a loop
+through a crimp sleeve takes ~2 x 10 mm, plus a hand's hold. Engineering default."""
+
+FIELDS = ("item", "spec", "quantity", "unit", "where", "source")
+
+
+@dataclass(frozen=True)
+class BomLine:
+    item: str          # "Socket head cap screw"
+    spec: str          # "ISO 4762 M2 x 8"
+    quantity: float    # count, or a length / mass for items sold by length or weight
+    unit: str          # "pcs", "mm", "g"
+    where: str         # the joints or parts it serves
+    source: str        # where the size comes from
+
+    def row(self) -> dict:
+        q = int(self.quantity) if self.unit == "pcs" else round(self.quantity, 1)
+        return {"item": self.item, "spec": self.spec, "quantity": q, "unit": self.unit, "where": self.where,
+                "source": self.source}
+
+
+_SCREW_NAMES = {"cap_screw": ("Socket head cap screw", "ISO 4762"),
+                "set_screw": ("Set screw, flat point", "ISO 4026")}
+
+
+def _where(items) -> str:
+    items = sorted(set(items))
+    return "; ".join(items) if len(items) <= 6 else "; ".join(items[:6]) + f"; and {len(items) - 6} more"
+
+
+def fastener_lines(fasteners) -> list[BomLine]:
+    """Screws, inserts, nuts, pins, washers and clips, grouped by what a builder orders."""
+    groups: dict[tuple, list] = {}
+    for f in fasteners:
+        if f.kind == "dowel":
+            key = ("Dowel pin, hardened", f"ISO 8734 {float(f.size):g} x {f.length_mm:g} m6", "catalogues/pins.toml")
+        else:
+            name, std = _SCREW_NAMES[f.kind]
+            key = (name, f"{std} {f.size} x {f.length_mm:g}", "catalogues/fasteners.toml")
+        groups.setdefault(key, []).append(f)
+        if f.seat == "insert":
+            s = f.screw
+            groups.setdefault(("Heat-set insert, brass", f"{f.size} x {s.insert_length_mm:g} "
+                               f"(OD {s.insert_outer_diameter_mm:g}, hole {s.insert_hole_mm:g})",
+                               "catalogues/fasteners.toml (CNC Kitchen / Ruthex standard)"), []).append(f)
+        elif f.seat == "nut":
+            groups.setdefault(("Hex nut", f"ISO 4032 {f.size}", "catalogues/fasteners.toml"), []).append(f)
+        for extra in ("washer", "clip"):
+            if f.meta.get(extra):
+                groups.setdefault((extra.capitalize() if extra == "washer" else "Retaining clip",
+                                   str(f.meta[extra]), "catalogues/"), []).append(f)
+    out = []
+    for (item, spec, source), fs in sorted(groups.items()):
+        out.append(BomLine(item, spec, len(fs), "pcs", _where(f.joins for f in fs), source))
+    return out
+
+
+def cable_lines(p: Params) -> list[BomLine]:
+    """One line per cable side: its cut length [mm]."""
+    from swiftfin.layout.geometry import cable_routes, spool_dims
+
+    d = spool_dims(p)
+    wrap_mm = (p.spool.wraps / 2 + p.spool.groove_margin_turns / 2) * math.pi * p.spool.drum_diameter_mm
+    out = []
+    for r in cable_routes(p):
+        # the anchor runs: up the spool to the top of its upper flange, round the tendon sector to its anchor
+        spool_anchor = d.groove_length_mm + d.flange_mm + p.spool.flange_height_mm
+        sector = p.joints.tendon_moment_arm_mm * math.pi / 2 + p.joints.link_thickness_mm
+        length = r.length_mm + wrap_mm + spool_anchor + sector + 2 * CABLE_TAIL_MM
+        side = "left" if r.side > 0 else "right"
+        out.append(BomLine("Cable", f"{p.cable.material}, {p.cable.diameter_mm:g} mm, cut {length:.0f} mm", 1, "pcs",
+                           f"joint {r.joint + 1}, {side} side (route {r.length_mm:.0f} mm + wrap {wrap_mm:.0f} + "
+                           f"anchors {spool_anchor + sector:.0f} + tails 2 x {CABLE_TAIL_MM:g})",
+                           "cable_routes(p) and [spool], [cable]"))
+    total = sum(float(x.spec.rsplit("cut ", 1)[1].split()[0]) for x in out)
+    out.append(BomLine("Cable, total to buy", f"{p.cable.material}, {p.cable.diameter_mm:g} mm", round(total), "mm",
+                       "all joints", "sum of the cut lengths above"))
+    return out
+
+
+def bought_part_lines(p: Params, specs) -> list[BomLine]:
+    groups: dict[tuple, list] = {}
+    placeholders = {c.name for c in p.components if c.name == "fasteners"}
+    for s in specs:
+        if s.printed:
+            continue
+        base = s.label.rstrip("0123456789").rstrip("_") or s.label
+        if base == "motor":
+            spec = (f"NEMA {round(p.motor.frame_size_mm / 2.54):d} stepper, {p.motor.body_length_mm:g} mm body, "
+                    f"{p.motor.holding_torque_nm:g} N m, {p.motor.mass_kg * 1000:g} g")
+            item = "Stepper motor"
+        elif s.label in placeholders:
+            continue   # a mass placeholder for the screws, which are listed one by one
+        else:
+            spec = f"{s.mass_kg * 1000:g} g" if s.mass_kg else ""
+            item = s.label.replace("_", " ").capitalize()
+        groups.setdefault((item, spec, str(s.meta.get("source", ""))), []).append(s.label)
+    return [BomLine(item, spec, len(labels), "pcs", _where(labels), source)
+            for (item, spec, source), labels in groups.items()]
+
+
+def declared_lines(specs) -> list[BomLine]:
+    out = []
+    for s in specs:
+        for d in s.meta.get("bom", ()) or ():
+            out.append(BomLine(d["item"], d["spec"], float(d["quantity"]), d.get("unit", "pcs"),
+                               d.get("where", s.label), d.get("source", s.family)))
+    return out
+
+
+def ballast_lines(mass_properties: dict | None) -> list[BomLine]:
+    trim = (mass_properties or {}).get("trim") or {}
+    if not trim.get("enabled") or not trim.get("possible", True) or not trim.get("mass_kg"):
+        return []
+    return [BomLine("Trim ballast, lead", f"{trim['mass_kg'] * 1000:.1f} g (sphere of {2 * trim['sphere_radius_mm']:.1f} mm "
+                    f"or shot in the pocket)", round(trim["mass_kg"] * 1000, 1), "g",
+                    f"link {trim.get('link', 0)} at {trim.get('station_fraction', 0) * 100:.1f} % of the length",
+                    "mass model (exports/water.py trim_ballast)")]
+
+
+def bom_lines(p: Params, specs, fasteners, mass_properties: dict | None = None) -> list[BomLine]:
+    """Every bought item of the build (see the module docstring)."""
+    return (bought_part_lines(p, specs) + fastener_lines(fasteners) + cable_lines(p) + declared_lines(specs)
+            + ballast_lines(mass_properties))
+
+
+def bom_csv(lines) -> str:
+    buf = io.StringIO()
+    w = csv.DictWriter(buf, fieldnames=FIELDS, lineterminator="\n")
+    w.writeheader()
+    for line in lines:
+        w.writerow(line.row())
+    return buf.getvalue()
+
+
+def read_bom_csv(text: str) -> list[dict]:
+    return list(csv.DictReader(io.StringIO(text)))

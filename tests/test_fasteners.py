@@ -1,0 +1,142 @@
+"""The fastener table, the fastener records, their hole cutters and the checks on solids (cad/fastener_check.py),
+each against closed forms on small solids built here."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from swiftfin.catalogues.fasteners import (dowel, dowels, eclip_for_pin, fastener, screw_diameters_mm,
+                                            screw_sizes)
+from swiftfin.layout.fastening import Fastener, screw_length
+
+
+# ------------------------------------------------------------------------------------------------ the tables
+def test_every_screw_row_is_consistent():
+    assert [s.name for s in screw_sizes()] == ["M2", "M2.5", "M3", "M4"]
+    for s in screw_sizes():
+        d = s.nominal_diameter_mm
+        assert s.pilot_hole_mm < d < s.clearance_hole_mm < s.head_diameter_mm < s.counterbore_diameter_mm
+        assert s.key_reach_diameter_mm < s.counterbore_diameter_mm      # the driver fits the recess
+        assert s.insert_hole_mm > s.clearance_hole_mm and s.insert_outer_diameter_mm > s.insert_hole_mm
+        assert s.nut_width_across_flats_mm > s.clearance_hole_mm
+        assert 0.75 * d <= s.nut_height_mm <= 0.85 * d                    # ISO 4032: m ~ 0.8 d
+        assert list(s.lengths_mm) == sorted(s.lengths_mm) and list(s.set_screw_lengths_mm) == sorted(
+            s.set_screw_lengths_mm)
+        assert s.insert_length_mm >= s.engagement_min_mm - 1e-9           # an insert alone gives 1.5 d
+        # insert boss: hole plus the larger wall on both sides
+        assert s.insert_boss_od_mm(0.45) == pytest.approx(s.insert_hole_mm + 2 * max(0.9, 0.4 * s.insert_outer_diameter_mm))
+
+
+def test_lookups_by_name_and_diameter_agree_and_unknown_sizes_are_named():
+    for d in screw_diameters_mm():
+        assert fastener(d) is fastener(fastener(d).name)
+    with pytest.raises(KeyError, match="M2, M2.5, M3, M4"):
+        fastener(1.6)
+    with pytest.raises(KeyError, match="pins.toml"):
+        dowel(3.3)
+
+
+def test_every_dowel_in_a_reamed_bore_has_under_a_tenth_of_play():
+    for d in dowels():
+        lo, hi = d.radial_play_mm()
+        assert -0.01 < lo < hi <= 0.1
+    assert dowel(3.0).radial_play_mm() == pytest.approx((-0.004, 0.004))   # H7 0/+10 um, m6 +2/+8 um
+    assert eclip_for_pin(3.0).groove_diameter_mm == 1.9
+
+
+def test_screw_length_picks_the_shortest_catalogue_length_with_full_engagement():
+    m3 = fastener("M3")
+    assert screw_length(m3, 5.0, "insert") == 12.0          # 5 + 5.7 -> 12
+    assert screw_length(m3, 5.0, "nut") == 8.0              # 5 + 2.4 + 0.5 -> 8
+    assert screw_length(m3, 5.0, "self_tap") == 10.0        # 5 + 4.5 -> 10
+    assert screw_length(m3, 5.0, "insert", room_mm=11.0) is None
+    assert screw_length(m3, 50.0, "insert") is None
+
+
+def _f(**kw) -> Fastener:
+    base = dict(label="t", size="M3", kind="cap_screw", seat="insert", head_mm=(0.0, 0.0, 10.0),
+                axis=(0.0, 0.0, -1.0), length_mm=10.0, grip_mm=4.0, head_part="top", thread_part="bottom",
+                joins="test")
+    base.update(kw)
+    return Fastener(**base)
+
+
+def test_fastener_records_name_what_is_wrong_with_their_numbers():
+    assert _f().problems() == []
+    assert "not a catalogue length" in _f(length_mm=11.0).problems()[0]
+    assert "cannot cut its own thread" in " ".join(_f(kind="set_screw", seat="self_tap", length_mm=10.0).problems())
+    assert "engagement 2.00 mm < 1.5 x M3" in _f(seat="self_tap", length_mm=6.0).problems()[0]
+    assert "needs 2.90 mm" in _f(seat="nut", length_mm=6.0, grip_mm=4.0).problems()[0]
+    assert "not a unit vector" in _f(axis=(0.0, 0.0, -2.0)).problems()[0]
+    assert _f().engagement_mm == pytest.approx(5.7) and _f(seat="nut").engagement_mm == pytest.approx(2.4)
+
+
+# ------------------------------------------------------------------------------------------------ on solids
+def _manifold(solid):
+    from swiftfin.cad.assembly import Placed
+    from swiftfin.exports.brep import tessellate
+    mesh = tessellate(solid, 0.01, 5.0)
+    return Placed("x", 0, "test", mesh.vertices, mesh.faces).manifold
+
+
+@pytest.fixture(scope="module")
+def blocks():
+    """Two 20 x 20 blocks, bottom 10 mm thick (z 0..10), top 4 mm (z 10..14): an M3 x 12 screw from the top into
+    an insert in the bottom, its axis 3.5 mm from the blocks' -x face; its tip 8 mm into the bottom."""
+    from swiftfin.cad.kernel import bd
+    from swiftfin.cad.fastening import head_cutters, seat_cutters
+
+    f = _f(head_mm=(-6.5, 0.0, 14.0), grip_mm=4.0, length_mm=12.0)
+    top = bd.Solid.make_box(20, 20, 4).translate((-10, -10, 10))
+    bottom = bd.Solid.make_box(20, 20, 10).translate((-10, -10, 0))
+    top = top.cut(*head_cutters(f))
+    bottom = bottom.cut(*seat_cutters(f))
+    return f, top, bottom
+
+
+def test_cutters_remove_the_closed_form_volumes(blocks):
+    f, top, bottom = blocks
+    s = f.screw
+    clear = math.pi * (s.clearance_hole_mm / 2) ** 2 * 4.0
+    assert 20 * 20 * 4 - top.volume == pytest.approx(clear, rel=1e-6)
+    pocket = math.pi * (s.insert_hole_mm / 2) ** 2 * s.insert_pocket_depth_mm
+    tip = math.pi * (s.clearance_hole_mm / 2) ** 2 * (8.0 + 0.5 - s.insert_pocket_depth_mm)   # to the tip + 0.5
+    assert 20 * 20 * 10 - bottom.volume == pytest.approx(pocket + tip, rel=1e-6)
+
+
+def test_walls_are_measured_on_the_solid_against_closed_forms(blocks, default_params):
+    from swiftfin.cad.fastener_check import check_fasteners
+
+    f, top, bottom = blocks
+    mans = {"top": _manifold(top), "bottom": _manifold(bottom)}
+    rep = check_fasteners(default_params, [f], mans, raise_on_failure=False)
+    by = {w.feature: w for w in rep.walls}
+    s = f.screw
+    # the hole's centre is 3.5 mm from the -x face: wall = 3.5 - r (to the tessellation of the hole)
+    assert by["clearance hole"].wall_mm == pytest.approx(3.5 - s.clearance_hole_mm / 2 - 0.05, abs=0.02)
+    assert by["insert pocket"].wall_mm == pytest.approx(3.5 - s.insert_hole_mm / 2 - 0.05, abs=0.02)
+    assert by["insert pocket"].limit_mm == pytest.approx(max(0.9, s.insert_wall_min_mm))
+    # 1.45 mm < the M3 insert's 1.84 mm wall: named with the part and the place
+    assert any("bottom: wall round the insert pocket of t is 1.45 mm" in x for x in rep.problems), rep.problems
+    assert all("clearance hole" not in x for x in rep.problems)
+
+
+def test_a_pocket_without_material_and_a_blocked_driver_are_named(blocks, default_params):
+    from swiftfin.cad.kernel import bd
+    from swiftfin.cad.fastener_check import check_fasteners
+
+    f, top, bottom = blocks
+    lid = bd.Solid.make_box(10, 10, 2).translate((-11.5, -5, 34))      # over the head, 17 mm up
+    mans = {"top": _manifold(top), "bottom": _manifold(bottom), "lid": _manifold(lid)}
+    rep = check_fasteners(default_params, [f], mans, raise_on_failure=False)
+    assert any("driver's path" in x and "runs into lid" in x for x in rep.problems), rep.problems
+    rep = check_fasteners(default_params, [_f(head_mm=(-6.5, 0.0, 14.0), length_mm=12.0, installed_after=("lid",))],
+                          mans,
+                          raise_on_failure=False)
+    assert not any("driver" in x for x in rep.problems)
+    # the screw moved off the blocks: its insert has no material round it
+    off = _f(head_mm=(-30.0, 0.0, 14.0), length_mm=12.0)
+    rep = check_fasteners(default_params, [off], mans, raise_on_failure=False)
+    assert any("no material of bottom round its insert pocket" in x for x in rep.problems), rep.problems
