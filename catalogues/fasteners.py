@@ -8,6 +8,7 @@ there).
 """
 from __future__ import annotations
 
+import math
 import tomllib
 from dataclasses import dataclass
 from functools import cache
@@ -23,6 +24,14 @@ INSERT_WALL_FRACTION = 0.4
 commodity plastics; 0.4 chosen."""
 NUT_TRAP_CLEARANCE_MM = 0.3
 """Nut trap across flats and depth beyond the nut [mm]: a printed hex pocket the nut drops into by hand."""
+STEEL_DENSITY_KG_M3 = 7850.0
+"""Screws, nuts and dowel pins [kg/m^3]: carbon and alloy steel (ISO 4762 class 12.9, ISO 8734), EN 10025 7850;
+A2 stainless is 7900."""
+BRASS_DENSITY_KG_M3 = 8470.0
+"""Heat-set inserts [kg/m^3]: CW614N (CuZn39Pb3) free-machining brass datasheets, 8.47 g/cm^3."""
+INSERT_SOLID_FRACTION = 0.85
+"""Metal of a knurled insert / the annulus between its thread and its outer diameter [-]: the knurl's grooves and
+the thread's flanks take an estimated 15 % (engineering estimate, not weighed: weigh yours)."""
 THREAD_ENGAGEMENT_MIN_D = 1.5
 """Least thread engagement / nominal diameter for a screw into plastic or a brass insert's length limit
 [-] (issue 12; VDI 2230 asks 0.8-1 d in steel nuts, printed threads and self-tapped holes need more)."""
@@ -82,6 +91,28 @@ class ScrewSize:
     def engagement_min_mm(self) -> float:
         return THREAD_ENGAGEMENT_MIN_D * self.nominal_diameter_mm
 
+    def screw_mass_kg(self, length_mm: float, set_screw: bool = False) -> float:
+        """A steel screw of this size: the threaded shank as a cylinder of the pitch diameter (d - 0.6495 P, ISO
+        724), and for a cap screw the head (ISO 4762 dk x k) less its hex socket (key across flats, half the head
+        deep) [kg]."""
+        dp = self.nominal_diameter_mm - 0.6495 * self.pitch_mm
+        v = math.pi / 4 * dp**2 * length_mm
+        if not set_screw:
+            v += (math.pi / 4 * self.head_diameter_mm**2 * self.head_height_mm
+                  - math.sqrt(3) / 2 * self.hex_key_mm**2 * self.head_height_mm / 2)
+        return v * 1e-9 * STEEL_DENSITY_KG_M3
+
+    @property
+    def insert_mass_kg(self) -> float:
+        v = math.pi / 4 * (self.insert_outer_diameter_mm**2 - self.nominal_diameter_mm**2) * self.insert_length_mm
+        return INSERT_SOLID_FRACTION * v * 1e-9 * BRASS_DENSITY_KG_M3
+
+    @property
+    def nut_mass_kg(self) -> float:
+        v = (math.sqrt(3) / 2 * self.nut_width_across_flats_mm**2
+             - math.pi / 4 * self.nominal_diameter_mm**2) * self.nut_height_mm
+        return v * 1e-9 * STEEL_DENSITY_KG_M3
+
     def length_for(self, need_mm: float, set_screw: bool = False) -> float | None:
         """Shortest catalogue length >= ``need_mm`` (None if even the longest is too short)."""
         offer = self.set_screw_lengths_mm if set_screw else self.lengths_mm
@@ -109,6 +140,9 @@ class Dowel:
         lo = (self.reamed_bore_tolerance_mm[0] - self.tolerance_mm[1]) / 2
         hi = (self.reamed_bore_tolerance_mm[1] - self.tolerance_mm[0]) / 2
         return lo, hi
+
+    def mass_kg(self, length_mm: float) -> float:
+        return math.pi / 4 * self.diameter_mm**2 * length_mm * 1e-9 * STEEL_DENSITY_KG_M3
 
     def length_for(self, need_mm: float) -> float | None:
         return next((float(x) for x in self.lengths_mm if x >= need_mm - 1e-9), None)

@@ -337,9 +337,9 @@ DEFAULT_COMPONENTS = (
               source=f"{PAPER} Table 2 (9 V, 500 mAh); PP3 Li-ion cell 46 g. Placed low under the motors: ballast"),
     Component(name="electronics", mass_kg=0.030, size_mm=(30.0, 15.0, 45.0), station_fraction=0.077, z_mm=0.0,
               source="Arduino Nano (7 g) + 4 x A4988 carriers (4 x 3 g) + MPU6050 + wiring, board on edge in the nose"),
-    Component(name="fasteners", mass_kg=0.040, size_mm=(60.0, 20.0, 10.0), station_fraction=0.39, z_mm=-40.0,
-              source="M2/M3 screws, nuts and 3 mm dowels, estimated from the part count; lumped under the rear motors"),
 )
+# (the screws, inserts, nuts and pins are no longer a lumped component: each fastener record carries its catalogue
+# mass at its place, exports/line_masses.py fastener_masses)
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,8 @@
 """Bought parts that are lines, not solids: the capstan cables and the PTFE tubes, as line masses in SI units.
 
 The **cables** are line masses (``cable.linear_density_g_m``) along ``swiftfin.layout.geometry.cable_routes`` plus
-their wraps on the drums (:func:`cable_masses`, one ``cables_link_<j>`` entry per link). The **PTFE tube** lines
+their wraps on the drums (:func:`cable_masses`, one ``cables_link_<j>`` entry per link). The **fasteners** (screws,
+inserts, nuts, pins of the fastener records) are short rods at their places (:func:`fastener_masses`). The **PTFE tube** lines
 every guide channel where it passes through its printed block (:func:`ptfe_tube_masses`): a thin-walled rod of
 ``guides.ptfe_tube_od_mm`` / ``ptfe_tube_id_mm`` and ``guides.ptfe_density_kg_m3`` along the channel centre lines
 of ``cad.guide.guide_blocks``, one ``ptfe_tube_link_<j>`` entry per link that holds guides. Pieces are given to
@@ -126,4 +127,28 @@ def ptfe_tube_masses(p: Params) -> list[PartMass]:
                             "along the guide channels (cad.guide.guide_blocks), clipped to each block",
                             (), 0.0, 0.0, 0.0, 0.0, it, it, None, None,
                             (tuple(pts.min(axis=0) - pad), tuple(pts.max(axis=0) + pad))))
+    return out
+
+
+def fastener_masses(p: Params, fasteners=None) -> list[PartMass]:
+    """Every screw, insert, nut and pin of the design (:func:`swiftfin.cad.fastening.all_fasteners`) as a thin steel
+    rod along its axis (its screw, insert and nut lumped together), one ``fasteners_link_<j>`` entry per link; the
+    masses come from the catalogue (``Fastener.mass_kg``)."""
+    if fasteners is None:
+        from swiftfin.cad.fastening import all_fasteners
+        fasteners = all_fasteners(p)
+    pieces: dict[int, list[Inertial]] = {}
+    for f in fasteners:
+        a = units.length_m(np.asarray(f.head_mm, dtype=float))
+        b = units.length_m(np.asarray(f.tip_mm, dtype=float))
+        r = units.length_m(float(f.size) / 2 if f.kind == "dowel" else f.screw.nominal_diameter_mm / 2)
+        pieces.setdefault(f.link, []).append(rod_inertial(f.mass_kg, a, b, r))
+    out = []
+    for link, items in sorted(pieces.items()):
+        it = combine(items)
+        pts = np.array([i.com for i in items])
+        out.append(PartMass(f"fasteners_link_{link}", link, "fastener", False,
+                            f"catalogue masses of {len(items)} screws, inserts, nuts and pins (catalogues/), as rods "
+                            f"along their axes", (), 0.0, 0.0, 0.0, 0.0, it, it, None, None,
+                            (tuple(pts.min(axis=0)), tuple(pts.max(axis=0)))))
     return out

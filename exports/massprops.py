@@ -49,7 +49,8 @@ from swiftfin.exports.print_model import (  # noqa: F401
     _valid, bridge_flow_factor, find_core, layer_core, memoized, occ_core, part_mass, rotation_matrix, to_manifold,
     voxel_core)
 from swiftfin.exports.line_masses import (  # noqa: F401
-    _channel_centre_line, _clip_polyline_x, cable_masses, link_of_station, ptfe_tube_masses, rod_inertial)
+    _channel_centre_line, _clip_polyline_x, cable_masses, fastener_masses, link_of_station, ptfe_tube_masses,
+    rod_inertial)
 from swiftfin.exports.water import (  # noqa: F401
     _ballast_part, _fin_outside_volume, _outside_piece, envelope_inertial, envelope_section_mm, envelope_volume_mm3,
     trim_ballast)
@@ -156,6 +157,7 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
     out: list[PartMass] = map_parts(one, list(parts), jobs)
     out += cable_masses(params)
     out += ptfe_tube_masses(params)
+    out += fastener_masses(params)
     links_idx = sorted({pt.link for pt in out})
     if links_idx != list(range(len(links_idx))) or len(links_idx) != params.joints.count + 1:
         raise BuildError(f"links: parts belong to links {links_idx}; expected 0..{params.joints.count} "

@@ -75,6 +75,25 @@ class Fastener:
             return min(past, self.screw.nut_height_mm)
         return past
 
+    @property
+    def mass_kg(self) -> float:
+        """The bought metal of this record: the screw (or pin) and its insert or nut [kg]."""
+        if self.kind == "dowel":
+            from swiftfin.catalogues.fasteners import dowel
+            return dowel(float(self.size)).mass_kg(self.length_mm)
+        s = self.screw
+        m = s.screw_mass_kg(self.length_mm, set_screw=self.kind == "set_screw")
+        if self.seat == "insert":
+            m += s.insert_mass_kg
+        elif self.seat == "nut":
+            m += s.nut_mass_kg
+        return m
+
+    @property
+    def centre_mm(self) -> tuple[float, float, float]:
+        """Where its mass sits: the middle of its length."""
+        return tuple(float(c) for c in self.point_mm(self.length_mm / 2))
+
     def problems(self) -> list[str]:
         """What is wrong with the numbers alone (the solids are checked elsewhere)."""
         out = []

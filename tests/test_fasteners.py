@@ -140,3 +140,20 @@ def test_a_pocket_without_material_and_a_blocked_driver_are_named(blocks, defaul
     off = _f(head_mm=(-30.0, 0.0, 14.0), length_mm=12.0)
     rep = check_fasteners(default_params, [off], mans, raise_on_failure=False)
     assert any("no material of bottom round its insert pocket" in x for x in rep.problems), rep.problems
+
+
+def test_fastener_masses_come_from_the_catalogue_and_sit_on_their_links(default_params):
+    from swiftfin.exports.line_masses import fastener_masses
+
+    m3 = fastener("M3")
+    # ISO 4762 M3 x 10 weighs about 1.0 g, an ISO 4032 M3 nut 0.37 g, an ISO 8734 3 x 12 pin 0.67 g (7.85 g/cm^3)
+    assert m3.screw_mass_kg(10.0) == pytest.approx(0.99e-3, rel=0.1)
+    assert m3.nut_mass_kg == pytest.approx(0.37e-3, rel=0.05)
+    assert dowel(3.0).mass_kg(12.0) == pytest.approx(math.pi / 4 * 3.0**2 * 12.0 * 7.85e-6, rel=1e-9)   # kg/mm^3
+    fs = [_f(label="a", link=0), _f(label="b", link=0, head_mm=(-100.0, 0.0, 10.0)), _f(label="c", link=2)]
+    pms = {pm.label: pm for pm in fastener_masses(default_params, fs)}
+    assert set(pms) == {"fasteners_link_0", "fasteners_link_2"}
+    one = m3.screw_mass_kg(10.0) + m3.insert_mass_kg
+    assert pms["fasteners_link_0"].inertial.mass_kg == pytest.approx(2 * one)
+    # the COM halfway between the two screws' middles (x = 0 and -100 mm), 5 mm below their heads
+    assert pms["fasteners_link_0"].inertial.com == pytest.approx([-0.05, 0.0, 0.005])
