@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from swiftfin.catalogues.fasteners import dowel_diameters_mm, screw_diameters_mm
+from swiftfin.catalogues.materials import material_names
 
 SCREWS = screw_diameters_mm()      # the thread sizes of catalogues/fasteners.toml (M2, M2.5, M3, M4)
 DOWELS = dowel_diameters_mm()      # the pin diameters of catalogues/pins.toml (ISO 8734)
@@ -109,6 +110,10 @@ class Motor:
     mass_kg: float = p(0.28, 0.05, 1.0, "Motor mass", "17HS4401 datasheet (280 g)")
     rotor_inertia_kg_m2: float = p(5.4e-6, 1e-7, 1e-4, "Rotor inertia", "17HS4401 datasheet (54 g cm^2)")
     holding_torque_nm: float = p(0.42, 0.01, 5.0, "Holding torque", f"{PAPER} Table 2 (0.42 N m)")
+    phase_current_a: float = p(1.5, 0.05, 10.0, "Phase current the driver holds (peak of the microstep sine; the "
+                               "A4988's current limit); holding_torque_nm and the pull-out curve must be the "
+                               "motor's at this current", "17HS4401 rated 1.7 A; 1.5 A set, as for the pull-out curve")
+    phase_resistance_ohm: float = p(1.5, 0.05, 50.0, "Winding resistance per phase", "17HS4401 datasheet (1.5 ohm)")
     full_step_deg: float = p(1.8, 0.9, 15.0, "Full step angle", f"{PAPER} §2.5.2 (1.8 deg)")
     microsteps: int = p(16, 1, 256, "Microstepping factor", f"{PAPER} Table 2 (A4988, 1/16)",
                         choices=(1, 2, 4, 8, 16, 32, 64, 128, 256))
@@ -209,6 +214,27 @@ class Environment:
                                      "computed from the mass model; it is listed as the part trim_ballast)",
                            source="Engineering default")
     ballast_density_kg_m3: float = p(11340.0, 2000.0, 20000.0, "Density of the trim ballast", "Lead (11.34 g/cm^3)")
+    water_temperature_c: float = p(20.0, 0.0, 40.0, "Water temperature", "Engineering default (a pool or a tank)")
+    heat_transfer_water_w_m2_k: float = p(200.0, 10.0, 10000.0, "Convection from the hull to the water",
+                                          "Natural convection in water 100-1000 W/m^2 K (Incropera & DeWitt, Table "
+                                          "1.1); the low end: the fish held still on a bench")
+    heat_transfer_air_w_m2_k: float = p(5.0, 1.0, 50.0, "Natural convection inside the closed dry compartment "
+                                        "(air to the wall, air to a motor's case)",
+                                        "Natural convection in gases 2-25 W/m^2 K (Incropera & DeWitt, Table 1.1); "
+                                        "a small closed cavity sits near the low end")
+
+
+@dataclass(frozen=True)
+class Power:
+    battery_energy_wh: float = p(4.5, 0.1, 1000.0, "Energy of the battery", f"{PAPER} Table 2 (9 V, 500 mAh)")
+    battery_usable_fraction: float = p(0.8, 0.1, 1.0, "Share of the energy usable before the cut-off voltage",
+                                       "Engineering default for Li-ion (cut-off at ~3.0 V a cell)")
+    driver_rds_on_ohm: float = p(0.75, 0.0, 5.0, "On-resistance of a driver's bridge, source plus sink",
+                                 "Allegro A4988 datasheet (320 + 430 mohm typical at 25 C)")
+    electronics_power_w: float = p(0.4, 0.0, 50.0, "Controller, sensors and the drivers' logic",
+                                   "Arduino Nano + MPU6050 + 4 A4988 logic ~40 mA from 9 V through a linear regulator")
+    run_time_required_min: float = p(15.0, 0.1, 1000.0, "Swimming time one charge must give at the design gait",
+                                     "Engineering default (a pool test session)")
 
 
 @dataclass(frozen=True)
@@ -274,6 +300,9 @@ class Rules:
     strouhal_max: float = p(0.35, 0.0, 2.0, "Upper end of the efficient Strouhal band", f"{PAPER} §2.5.3 (0.35)")
     wall_min_line_widths: float = p(2.0, 1.0, 10.0, "Thinnest printed wall / extrusion line width",
                                     "FDM practice (two perimeters make a closed wall)")
+    softening_margin_k: float = p(10.0, 0.0, 50.0, "Kelvin a printed part must stay below its material's heat "
+                                  "deflection temperature", "Engineering default (HDT is measured at 0.45 MPa; "
+                                  "creep starts below it)")
 
 
 @dataclass(frozen=True)
@@ -291,6 +320,8 @@ class Print:
     infill_pattern: str = p("gyroid", doc="Sparse infill pattern", source="PrusaSlicer",
                             choices=("gyroid", "grid", "rectilinear", "cubic", "honeycomb", "line"))
     filament_density_kg_m3: float = p(1240.0, 800.0, 2500.0, "Filament density", "PLA (1.24 g/cm^3)")
+    material: str = p("PLA", doc="Printed material (its softening temperature and conductivity from "
+                      "catalogues/materials.toml)", source="SwiftFin paper (PLA parts)", choices=material_names())
     filament_diameter_mm: float = p(1.75, 1.0, 3.0, "Filament diameter", "Standard")
     clearance_sliding_mm: float = p(0.3, 0.0, 2.0, "Radial clearance for sliding fits (pins, shafts)",
                                     "FDM practice (0.2-0.4 mm)")
@@ -355,6 +386,7 @@ class Params:
     swimming: Swimming = field(default_factory=Swimming)
     environment: Environment = field(default_factory=Environment)
     hydro: Hydro = field(default_factory=Hydro)
+    power: Power = field(default_factory=Power)
     rules: Rules = field(default_factory=Rules)
     print: Print = field(default_factory=Print)
     export: Export = field(default_factory=Export)
@@ -363,6 +395,6 @@ class Params:
 
 
 SECTIONS = {"body": Body, "hull": Hull, "joints": Joints, "motor": Motor, "spool": Spool, "cable": Cable,
-            "guides": Guides, "caudal_fin": CaudalFin, "swimming": Swimming, "environment": Environment, "hydro": Hydro, "rules": Rules,
+            "guides": Guides, "caudal_fin": CaudalFin, "swimming": Swimming, "environment": Environment, "hydro": Hydro, "power": Power, "rules": Rules,
             "print": Print, "export": Export,
             "domain_randomisation": DomainRandomisation}

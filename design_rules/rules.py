@@ -353,6 +353,92 @@ def floats_level(ctx: RuleContext) -> Finding:
                           f"{abs(pitch):.1f} deg nose-{'down' if pitch >= 0 else 'up'}")
 
 
+# ----------------------------------------------------------------------------------------------- heat and power
+MOTOR_CASE_AREA_FACES = 5
+"""Faces of a motor's frame that give heat to the air: four sides and the back (the front is on its mount)."""
+
+
+def dry_wall_area_m2(p: Params, n: int = 400) -> float:
+    """Wall of the dry compartment: the hull's outer surface from the nose to the first flooded joint (the sealed
+    links; every link with ``hull.flooded_from_joint`` beyond the joints), plus the rear bulkhead that faces the
+    flooded segment behind it [m^2]. The ellipse perimeters by Ramanujan's second formula, integrated along the
+    stations."""
+    from swiftfin.layout.geometry import half_height_mm, hull_end_mm, joint_stations_mm, naca_half_width_mm
+    js = joint_stations_mm(p)
+    k = p.hull.flooded_from_joint
+    s_end = js[k - 1] if k <= len(js) else hull_end_mm(p)
+    s = np.linspace(0.0, s_end, n)
+    a = np.asarray(naca_half_width_mm(p, s))
+    b = np.asarray(half_height_mm(p, s))
+    h = ((a - b) / (a + b + 1e-12)) ** 2
+    per = math.pi * (a + b) * (1 + 3 * h / (10 + np.sqrt(4 - 3 * h)))
+    da = np.gradient(0.5 * (a + b), s)                       # the surface is slanted where the section grows
+    side = float(np.trapezoid(per * np.sqrt(1 + da**2), s))
+    bulkhead = math.pi * a[-1] * b[-1] if k <= len(js) else 0.0
+    return (side + bulkhead) * 1e-6
+
+
+def _heat(ctx: RuleContext) -> dict:
+    """The dry compartment's heat balance at the design gait (physics/thermal.py)."""
+    from swiftfin.catalogues.materials import material
+    from swiftfin.physics.thermal import (case_rise_k, compartment_resistance_k_w, driver_bridge_loss_w,
+                                          stepper_copper_loss_w)
+    p = ctx.p
+    micro = p.motor.microsteps > 1
+    n = p.joints.count
+    motor_w = stepper_copper_loss_w(p.motor.phase_current_a, p.motor.phase_resistance_ohm, micro)
+    driver_w = driver_bridge_loss_w(p.motor.phase_current_a, p.power.driver_rds_on_ohm, micro)
+    total_w = n * (motor_w + driver_w) + p.power.electronics_power_w
+    mat = material(p.print.material)
+    area = dry_wall_area_m2(p)
+    env = p.environment
+    r = compartment_resistance_k_w(area, p.hull.wall_thickness_mm * 1e-3, mat.thermal_conductivity_w_m_k,
+                                   env.heat_transfer_air_w_m2_k, env.heat_transfer_water_w_m2_k)
+    air_c = env.water_temperature_c + total_w * r
+    case_area = (MOTOR_CASE_AREA_FACES - 1) * p.motor.frame_size_mm * p.motor.body_length_mm * 1e-6 \
+        + p.motor.frame_size_mm ** 2 * 1e-6
+    case_c = air_c + case_rise_k(motor_w, case_area, env.heat_transfer_air_w_m2_k)
+    return {"motor_w": motor_w, "driver_w": driver_w, "total_w": total_w, "area_m2": area, "r_k_w": r,
+            "air_c": air_c, "case_c": case_c, "material": mat, "limit_c": mat.heat_deflection_temperature_c
+            - p.rules.softening_margin_k}
+
+
+def dry_compartment_temperature(ctx: RuleContext) -> Finding:
+    h = _heat(ctx)
+    p = ctx.p
+    return at_most("heat.dry_compartment", h["air_c"], h["limit_c"],
+                   f"steady heat balance (physics/thermal.py): inside air below the printed {h['material'].name}'s "
+                   f"heat deflection temperature less rules.softening_margin_k", unit="C",
+                   detail=f"{h['total_w']:.1f} W inside ({p.joints.count} motors x {h['motor_w']:.2f} W copper + "
+                          f"drivers x {h['driver_w']:.2f} W + electronics {p.power.electronics_power_w:g} W at "
+                          f"{p.motor.phase_current_a:g} A) through {h['area_m2'] * 1e4:.0f} cm^2 of wall, "
+                          f"{h['r_k_w']:.2f} K/W: {h['total_w'] * h['r_k_w']:.0f} K over the "
+                          f"{p.environment.water_temperature_c:g} C water")
+
+
+def motor_mount_temperature(ctx: RuleContext) -> Finding:
+    h = _heat(ctx)
+    return at_most("heat.motor_mount", h["case_c"], h["limit_c"],
+                   f"a motor's case (and the printed mount on its face) below the {h['material'].name}'s heat "
+                   f"deflection temperature less rules.softening_margin_k", unit="C",
+                   detail=f"case {h['case_c'] - h['air_c']:.0f} K above the {h['air_c']:.0f} C air "
+                          f"({h['motor_w']:.2f} W through its {MOTOR_CASE_AREA_FACES} free faces)")
+
+
+def run_time(ctx: RuleContext) -> Finding:
+    from swiftfin.physics.thermal import run_time_s
+    h = _heat(ctx)
+    p = ctx.p
+    mech_w = max(ctx.loads.mean_positive_power_w, 0.0)
+    draw_w = h["total_w"] + mech_w
+    minutes = run_time_s(p.power.battery_energy_wh * 3600.0, p.power.battery_usable_fraction, draw_w) / 60.0
+    return at_least("power.run_time", minutes, p.power.run_time_required_min,
+                    "battery energy x usable share / the drive's electrical draw at the design gait", unit="min",
+                    detail=f"{p.power.battery_energy_wh:g} Wh x {p.power.battery_usable_fraction:g} over "
+                           f"{draw_w:.1f} W ({h['total_w']:.1f} W of losses and electronics + {mech_w:.2f} W "
+                           f"delivered to the joints; {ctx.load_note})")
+
+
 @dataclass(frozen=True)
 class Rule:
     rule_id: str
@@ -381,6 +467,9 @@ RULES: list[Rule] = [
     Rule("print.spool_flange", "print",
          _wall("print.spool_flange", lambda p: p.spool.flange_thickness_mm, "spool flange")),
     Rule("print.bed_fit", "print", bed_fit),
+    Rule("heat.dry_compartment", "heat", dry_compartment_temperature),
+    Rule("heat.motor_mount", "heat", motor_mount_temperature),
+    Rule("power.run_time", "power", run_time),
     Rule("float.upright", "float", floats_upright),
     Rule("float.net_buoyancy", "float", net_buoyancy),
     Rule("float.level", "float", floats_level),
