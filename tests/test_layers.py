@@ -194,7 +194,7 @@ def test_the_wheel_installs_one_top_level_package_with_the_default_design(wheel)
     for sub in ("cad", "design_rules", "exports", "physics", "layout", "core", "calibration", "report", "commands",
                 "catalogues"):
         assert f"swiftfin/{sub}/__init__.py" in names
-    for table in ("fasteners.toml", "pins.toml", "materials.toml"):   # the tables travel with the code
+    for table in ("fasteners.toml", "pins.toml", "materials.toml", "seals.toml"):   # the tables travel along
         assert f"swiftfin/catalogues/{table}" in names
 
 

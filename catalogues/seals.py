@@ -1,0 +1,81 @@
+"""Static O-ring face seals (``seals.toml`` beside this module, sources there): the gland for a cord, and the three
+numbers that judge an installed ring — squeeze, gland fill and stretch — with the limits they must meet.
+
+A printed groove is only as exact as the printer: :meth:`FaceGland.squeeze_range` gives the squeeze at the gland
+depth +/- ``limits.print_tolerance_mm``, which is what the seal rule checks.
+"""
+from __future__ import annotations
+
+import math
+import tomllib
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+@dataclass(frozen=True)
+class SealLimits:
+    squeeze_min_fraction: float
+    squeeze_max_fraction: float
+    fill_max_fraction: float
+    stretch_max_fraction: float
+    print_tolerance_mm: float
+
+
+@dataclass(frozen=True)
+class FaceGland:
+    """A rectangular face-seal groove for one O-ring cord [mm]."""
+    cord_mm: float
+    depth_mm: float
+    width_mm: float
+
+    def squeeze(self, depth_mm: float | None = None) -> float:
+        """(cord - gland depth) / cord [-]."""
+        d = self.depth_mm if depth_mm is None else depth_mm
+        return (self.cord_mm - d) / self.cord_mm
+
+    def squeeze_range(self, tolerance_mm: float) -> tuple[float, float]:
+        """Squeeze at the deepest and the shallowest groove the printer may make."""
+        return self.squeeze(self.depth_mm + tolerance_mm), self.squeeze(self.depth_mm - tolerance_mm)
+
+    def fill(self, depth_mm: float | None = None, width_mm: float | None = None) -> float:
+        """Cord section / groove section [-]."""
+        d = self.depth_mm if depth_mm is None else depth_mm
+        w = self.width_mm if width_mm is None else width_mm
+        return math.pi / 4 * self.cord_mm**2 / (d * w)
+
+
+def stretch(ring_inner_length_mm: float, groove_inner_length_mm: float) -> float:
+    """Stretch of a ring whose free inner circumference is ``ring_inner_length_mm`` when it lies against the inner
+    wall of a groove of inner perimeter ``groove_inner_length_mm`` [-] (negative: it is compressed)."""
+    return (groove_inner_length_mm - ring_inner_length_mm) / ring_inner_length_mm
+
+
+@cache
+def _table() -> dict:
+    return tomllib.loads((HERE / "seals.toml").read_text(encoding="utf-8"))
+
+
+@cache
+def seal_limits() -> SealLimits:
+    return SealLimits(**{k: float(v) for k, v in _table()["limits"].items()})
+
+
+@cache
+def face_glands() -> tuple[FaceGland, ...]:
+    return tuple(sorted((FaceGland(**{k: float(v) for k, v in row.items()})
+                         for row in _table()["face_gland"].values()), key=lambda g: g.cord_mm))
+
+
+def cord_diameters_mm() -> tuple[float, ...]:
+    return tuple(g.cord_mm for g in face_glands())
+
+
+def face_gland(cord_mm: float) -> FaceGland:
+    for g in face_glands():
+        if abs(g.cord_mm - cord_mm) < 1e-9:
+            return g
+    raise KeyError(f"no face gland for a {cord_mm:g} mm cord in catalogues/seals.toml (it holds "
+                   f"{', '.join(f'{c:g}' for c in cord_diameters_mm())} mm)")
