@@ -327,6 +327,9 @@ class Print:
                                     "FDM practice (0.2-0.4 mm)")
     clearance_assembly_mm: float = p(0.5, 0.0, 10.0, "Minimum gap between parts in the assembly",
                                      "Engineering default")
+    support_angle_deg: float = p(45.0, 20.0, 80.0, "A face leaning further than this from the vertical needs "
+                                 "support (the print orientation is chosen to need least)",
+                                 "FDM practice (45 deg overhangs print without support)")
 
 
 @dataclass(frozen=True)

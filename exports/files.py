@@ -180,6 +180,9 @@ class PartExport:
     print_size_mm: tuple[float, float, float]
     files: dict[str, bytes]
     volume_props: object = None     # exports.brep.VolumeProps of the B-rep (the mass model reuses it)
+    print_rotation: tuple[float, float, float] | None = None   # the orientation written (printed parts)
+    support_area_mm2: float | None = None      # overhang needing support in it (exports/printability.py)
+    orientations: tuple = ()        # (rotation, support area mm^2, fits the bed) of every candidate tried
 
 
 def export_part(spec, p) -> PartExport:
@@ -188,12 +191,27 @@ def export_part(spec, p) -> PartExport:
     mesh = tessellate(spec.solid, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg)
     files: dict[str, bytes] = {}
     size = tuple(float(v) for v in (mesh.bbox_mm[1] - mesh.bbox_mm[0]))
+    rot, support, tried = None, None, ()
     if spec.printed:
-        m = print_transform(mesh, spec.print_rotation, p.print.bed_x_mm, p.print.bed_y_mm)
+        rot, support, tried = choose_orientation(spec, mesh, p)
+        m = print_transform(mesh, rot, p.print.bed_x_mm, p.print.bed_y_mm)
         pm = mesh.transformed(m)
         size = tuple(float(v) for v in (pm.bbox_mm[1] - pm.bbox_mm[0]))
         files[".stl"] = stl_bytes(pm, spec.label)
         files[".3mf"] = threemf_bytes(pm, spec.label, slicer_config(p))
         files[".step"] = step_bytes(move_shape(spec.solid, m), spec.label)
     props = solid_volume_props(spec.solid)   # the adaptive integration, not Shape.volume's fixed rule
-    return PartExport(mesh, props.volume_mm3, float(spec.solid.area), size, files, props)
+    return PartExport(mesh, props.volume_mm3, float(spec.solid.area), size, files, props, rot, support, tried)
+
+
+def choose_orientation(spec, mesh: Mesh, p):
+    """The print orientation of a printed part: its family's own ``print_rotation``, or of the rotations its family
+    allows (``spec.meta["print_candidates"]``) the one that needs least support and fits the bed
+    (exports/printability.py). Returns (rotation, support area mm^2, every candidate as (rotation, area, fits))."""
+    from swiftfin.exports.printability import best_orientation
+
+    own = tuple(float(a) for a in spec.print_rotation)
+    cands = [own] + [tuple(float(a) for a in c) for c in spec.meta.get("print_candidates", ()) if tuple(c) != own]
+    bed = (p.print.bed_x_mm, p.print.bed_y_mm, p.print.bed_z_mm)
+    rot, oh, tried = best_orientation(mesh.vertices, mesh.faces, cands, p.print.support_angle_deg, bed)
+    return rot, oh.area_mm2, tuple((r, round(o.area_mm2, 1), fits) for r, o, fits in tried)

@@ -62,6 +62,8 @@ class ReportPart:
     volume_mm3: float | None = None
     print_rotation: tuple[float, float, float] | None = None   # None: not known (e.g. read from a build folder)
     catalogue_mass_kg: float | None = None
+    support_area_mm2: float | None = None      # overhang needing support in the print orientation
+    orientations: tuple = ()                   # (rotation, support mm^2, fits) of the orientations tried
 
 
 def as_report_part(part) -> ReportPart:
@@ -71,7 +73,8 @@ def as_report_part(part) -> ReportPart:
     spec, exp = part.spec, part.export
     return ReportPart(spec.label, spec.family, int(spec.link), bool(spec.printed), np.asarray(exp.mesh.vertices),
                       np.asarray(exp.mesh.faces), tuple(float(v) for v in exp.print_size_mm), float(exp.volume_mm3),
-                      tuple(float(v) for v in spec.print_rotation), spec.mass_kg)
+                      tuple(float(v) for v in spec.print_rotation), spec.mass_kg,
+                      getattr(exp, "support_area_mm2", None), tuple(getattr(exp, "orientations", ()) or ()))
 
 
 class Progress:

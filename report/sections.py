@@ -115,6 +115,10 @@ def parts_section(p: Params, parts, part_pics: dict | None, mp: dict | None) -> 
                 if x.print_size_mm else "")
         rot = (f'rotation ({", ".join(f"{v:g}" for v in x.print_rotation)})&deg;, '
                if x.print_rotation is not None else "")
+        if x.support_area_mm2 is not None:
+            others = [a for r, a, fits in x.orientations if fits and tuple(r) != tuple(x.print_rotation or ())]
+            alt = f" (other orientations tried: {', '.join(f'{a:.0f}' for a in others)})" if others else ""
+            rot += f"support {x.support_area_mm2:.0f} mm&sup2; at {p.print.support_angle_deg:g}&deg;{alt}, "
         pic = img(part_pics[x.label], x.label) if part_pics and x.label in part_pics else ""
         cards.append(f'<div class="card" id="part-{esc(x.label)}">{pic}<div class="cbody">'
                      f'<div class="cname">{esc(x.label)}</div>'

@@ -189,6 +189,8 @@ def run_family(name: str, p: Params, cache: FamilyCache | None) -> tuple[list[Bu
     for spec in specs:
         t1 = time.perf_counter()
         exp = export_part(spec, view)
+        if exp.print_rotation is not None and tuple(exp.print_rotation) != tuple(spec.print_rotation):
+            spec = dataclasses.replace(spec, print_rotation=tuple(exp.print_rotation))   # the orientation chosen
         _check_bed(spec, exp.print_size_mm, p)
         out.append(BuiltPart(spec, exp, t_family / max(len(specs), 1) + time.perf_counter() - t1, False,
                              _content_key(spec, breps[spec.label])))
