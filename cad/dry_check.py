@@ -8,7 +8,9 @@ the layout's numbers alone (numpy rings, no CAD kernel), the **wall zone**: the 
 it, so the zone lies strictly inside the wall where the printed wall should be solid. What of that zone the
 sealed hull parts do not fill is a cut in the wall: a screw's counterbore, a vent, a tube hole, a window left by
 a clearance cut. Each connected piece of it (manifold3d ``decompose``) is an :class:`Opening`; it goes **through**
-when it reaches both the outer and the inner skin layer of the zone (a layer :data:`LAYER_MM` thick on each side).
+when it reaches both the outer and the inner skin layer of the zone (a layer :data:`LAYER_MM` thick on each side)
+and the cavity's air there (the largest piece of the cavity, grown into that skin, less the parts), rather than
+material behind the wall: a screw's counterbore that ends in a column is not an opening.
 
 Seams (the faces where two sealed pieces meet) are not cuts: :func:`seams` lists the pairs of sealed hull parts
 that touch, each of which needs a seal of its own.
@@ -98,8 +100,9 @@ def _envelope(p: Params, s0: float, s1: float, shrink_mm: float, s_apex: float |
     return man
 
 
-def wall_zone(p: Params, inset_mm: float = INSET_MM):
-    """(zone, outer layer, inner layer) as manifolds: the part of the dry wall that must be solid, and its skins."""
+def wall_zone(p: Params, inset_mm: float = INSET_MM, with_cavity: bool = False):
+    """(zone, outer layer, inner layer) as manifolds: the part of the dry wall that must be solid, and its skins;
+    ``with_cavity``: also the cavity grown into the zone's inner skin."""
     pieces = sealed_pieces(p)
     if not pieces:
         raise ValueError("no sealed hull piece: hull.flooded_from_joint = 0")
@@ -115,6 +118,8 @@ def wall_zone(p: Params, inset_mm: float = INSET_MM):
     inner = _envelope(p, s_cap - inset_mm, c1 + inset_mm, w - inset_mm)
     inner2 = _envelope(p, s_cap - inset_mm - LAYER_MM, c1 + inset_mm + LAYER_MM, w - inset_mm - LAYER_MM)
     zone = outer - inner
+    if with_cavity:
+        return zone, zone - outer2, inner2 - inner, inner2
     return zone, zone - outer2, inner2 - inner
 
 
@@ -126,14 +131,18 @@ def wall_openings(p: Params, manifolds: dict) -> list[Opening]:
     if not labels:
         raise ValueError(f"none of the sealed hull parts {sealed_part_labels(p)} was built")
     union = m3d.Manifold.batch_boolean([manifolds[lb] for lb in labels], m3d.OpType.Add)
-    zone, outer_layer, inner_layer = wall_zone(p)
+    zone, outer_layer, inner_layer, cavity = wall_zone(p, with_cavity=True)
     holes = zone - union
+    # the cavity's air: the cavity grown into the wall zone's inner skin, less the parts; its largest piece is the
+    # dry volume itself (air in a counterbore that ends in a boss is a piece of its own)
+    air_pieces = (cavity - union).decompose()
+    air = max(air_pieces, key=lambda m: m.volume()) if air_pieces else cavity
     out = []
     for piece in holes.decompose():
         vol = piece.volume()
         if vol < MIN_OPENING_MM3:
             continue
-        through = (piece ^ outer_layer).volume() > 1e-3 and (piece ^ inner_layer).volume() > 1e-3
+        through = (piece ^ outer_layer).volume() > 1e-3 and (piece ^ air).volume() > 1e-3
         bb = np.asarray(piece.bounding_box(), dtype=float)
         lo, hi = bb[:3], bb[3:]
         centre = tuple(float(c) for c in (lo + hi) / 2)

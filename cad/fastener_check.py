@@ -16,7 +16,8 @@ For every :class:`~swiftfin.layout.fastening.Fastener` of the design (issue 12, 
    fastener is driven (``installed_after``).
 
 Depths of the head part where every ray starts in empty space (an air gap between the clamped parts) are
-skipped; the head part must have material at one depth at least (the head bears on something).
+skipped; the head part must have material at one depth at least (the head bears on something). The same holds for
+a pin's bore in each of the two parts it joins (``thread_part`` and ``meta["slip_part"]``).
 """
 from __future__ import annotations
 
@@ -94,7 +95,10 @@ def _holes(f: Fastener, line_width_mm: float, walls: float) -> list[tuple[str, s
     need = walls * line_width_mm
     out = []
     if f.kind == "dowel":
-        return [(f.thread_part, "pin bore", float(f.size) / 2, 0.0, f.length_mm, need)]
+        out = [(f.thread_part, "pin bore", float(f.size) / 2, 0.0, f.length_mm, need)]
+        if f.meta.get("slip_part"):
+            out.append((f.meta["slip_part"], "pin bore", float(f.size) / 2, 0.0, f.length_mm, need))
+        return out
     s = f.screw
     if f.head_part is not None and f.grip_mm > 0:
         out.append((f.head_part, "clearance hole", s.clearance_hole_mm / 2, 0.0, f.grip_mm, need))
@@ -115,7 +119,9 @@ def _ray_wall(man, start: np.ndarray, direction: np.ndarray) -> float:
     end = start + RAY_LENGTH_MM * direction
     hits = man.ray_cast(tuple(map(float, start)), tuple(map(float, end)))
     if not hits:
-        return 0.0                         # no surface ahead: the start was outside the part
+        # no surface within reach: either the start is outside the part, or the wall is thicker than the reach
+        far = man.ray_cast(tuple(map(float, start)), tuple(map(float, start + 100 * RAY_LENGTH_MM * direction)))
+        return RAY_LENGTH_MM if far and float(np.dot(far[0].normal, direction)) > 0 else 0.0
     h = hits[0]
     if float(np.dot(h.normal, direction)) <= 0:
         return 0.0                         # the first surface is entered: the start was in empty space
@@ -136,7 +142,7 @@ def measure_walls(f: Fastener, manifolds: dict, line_width_mm: float, walls: flo
         lo, hi = d0 + 0.3, d1 - 0.3
         depths = np.linspace(lo, hi, DEPTHS) if hi > lo else np.array([(d0 + d1) / 2])
         worst, where, in_material = math.inf, None, 0
-        is_head = feature == "clearance hole"
+        spans_parts = feature == "clearance hole" or (feature == "pin bore" and f.meta.get("slip_part"))
         for d in depths:
             centre = np.asarray(f.head_mm, dtype=float) + d * a
             row = []
@@ -151,7 +157,7 @@ def measure_walls(f: Fastener, manifolds: dict, line_width_mm: float, walls: flo
             wall, pt = min(row, key=lambda x: x[0])
             if wall < worst:
                 worst, where = wall, pt
-        if in_material == 0 or (not is_head and in_material < len(depths)):
+        if in_material == 0 or (not spans_parts and in_material < len(depths)):
             near = tuple(round(float(c), 1) for c in f.point_mm(d0))
             what = "no material" if in_material == 0 else f"material at only {in_material} of {len(depths)} depths"
             problems.append(f"{f.label}: {what} of {part} round its {feature} (between {d0:.1f} and "

@@ -3,7 +3,8 @@ of materials read, and the list of every fastener of the robot.
 
 ``head_cutters(f)``: what the head part loses (the clearance hole through the grip and, when the head is recessed,
 its counterbore and the room above it). ``seat_cutters(f)``: what the thread part loses (the insert's pocket, the
-nut's hex trap and the screw's way through it, or the self-tap pilot; a dowel's bore). Both are lists of
+nut's hex trap and the screw's way through it, or the self-tap pilot; a dowel's bore, printed
+``ream_stock_mm`` under the pin and reamed to H7 on assembly, catalogues/pins.toml). Both are lists of
 build123d solids in the body frame at rest, to be cut from the part that owns them.
 
 Each part family's plan that places fasteners is listed in :data:`FASTENER_PLANS`; :func:`all_fasteners` gathers
@@ -24,6 +25,7 @@ from swiftfin.layout.fastening import Fastener, check_unique
 
 FASTENER_PLANS: dict[str, str] = {}
 """Part family -> ``"module:function"``, each ``function(params) -> tuple[Fastener, ...]``."""
+FASTENER_PLANS.update(hull="swiftfin.layout.hull_plan:hull_fasteners", fin="swiftfin.layout.fin_plan:fin_fasteners")
 
 OVERCUT_MM = 0.5
 """Cutters run this far past the faces they open, so no zero-thickness skin is left."""
@@ -86,7 +88,9 @@ def seat_cutters(f: Fastener, open_mm: float = 0.0) -> list[bd.Solid]:
     grip, where the screw arrives)."""
     a = np.asarray(f.axis, dtype=float)
     if f.kind == "dowel":
-        d = float(f.size)
+        from swiftfin.catalogues.fasteners import dowel
+        pin = dowel(float(f.size))
+        d = pin.diameter_mm - pin.ream_stock_mm      # printed under size, reamed to H7 on assembly
         return [_rod(f.point_mm(-OVERCUT_MM), a, d / 2, f.length_mm + 2 * OVERCUT_MM)]
     s = f.screw
     past = f.length_mm - f.grip_mm
@@ -110,12 +114,13 @@ def seat_cutters(f: Fastener, open_mm: float = 0.0) -> list[bd.Solid]:
 
 def cutters_for(p: Params, label: str) -> list[bd.Solid]:
     """Every cut the fasteners ask of the part ``label``: head holes where it is a head part, seats where it is
-    a thread part."""
+    a thread part, and a pin's bore where the pin slips into it (``meta["slip_part"]``: one bore through both
+    parts, from the same record)."""
     out: list[bd.Solid] = []
     for f in all_fasteners(p):
         if f.head_part == label:
             out += head_cutters(f)
-        if f.thread_part == label:
+        if f.thread_part == label or (f.kind == "dowel" and f.meta.get("slip_part") == label):
             out += seat_cutters(f, open_mm=float(f.meta.get("nut_open_mm", 0.0)))
     return out
 

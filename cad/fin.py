@@ -20,8 +20,23 @@ The sections are lofted (B-spline) through 2 K + 1 spanwise stations graded towa
 
 Mount: a rectangular root tang in the x-z plane (:func:`tang_dims_mm`, sized from the peduncle's end section so the
 hull does not depend on the planform) runs from 30 % of the root chord forward through the gap to the hull end
-and ``mount_length_mm`` into the peduncle's slot, where two cross screws (hull screws, one per hull half) hold it.
-The fin is rigid with the last link (index ``joints.count``).
+and ``mount_length_mm`` into the peduncle's socket. The fin is rigid with the last link (index ``joints.count``).
+
+Root joint (issue 12: the old 0.3 mm of slop per side and both screws at one station let the fin rattle):
+
+* **Keyed socket, declared fit.** The socket is the tang's rectangle plus ``caudal_fin.root_fit_clearance_mm`` on
+  each side (0.1 mm: an FDM close fit, still assembled by hand). A rectangle cannot turn in its socket, so it is
+  its own key; a dovetail would need the tang slid in from the side across the seam, which the split hull
+  (halves joined at z = 0 through the socket) cannot offer, and its 45 deg flanks would be printed as overhangs.
+* **Drawn onto a datum face, not centred in the clearance.** Four M2 cap screws (hull screws; at two stations
+  along the body, :data:`swiftfin.layout.fin_plan.ROOT_SCREW_FRACTIONS` = 1/4 and 3/4 of the socket's length, one
+  in each hull half at each station) enter from the +y side through counterbores of the peduncle's wall and form
+  their thread in the tang (``seat = "self_tap"``: the 4 mm tang has no room for an insert's boss). Tightened,
+  they pull the tang flat onto the socket's +y face: the fit clearance is left on the -y side only, so there is no
+  play whatever the printer's tolerance, and the preload (friction on the face) carries the side force. The two
+  stations 7.5 mm apart take the fin's bending moment about z as a couple instead of a single pivot.
+* **Holes from the records.** The tang's pilots and the peduncle's clearance holes and counterbores are cut by
+  the registry from :func:`swiftfin.layout.fin_plan.fin_fasteners`; this module only shapes the fin.
 """
 from __future__ import annotations
 
@@ -70,17 +85,13 @@ def blade_solid(p: Params) -> bd.Solid:
 
 
 def fin_solid(p: Params) -> bd.Solid:
-    """Blade + root tang - the two screw holes."""
+    """Blade + root tang (the root screws' pilots are cut by the registry from their records)."""
     blade = blade_solid(p)
     td = tang_dims_mm(p)
     s_back = tang_back_station_mm(p)
     tang = bd.Solid.make_box(s_back - td.s_front_mm, td.thickness_mm, td.height_mm,
                              bd.Plane(origin=(-s_back, -td.thickness_mm / 2, -td.height_mm / 2)))
-    r = p.hull.screw_diameter_mm / 2 + p.print.clearance_sliding_mm
-    holes = [bd.Solid.make_cylinder(r, 2 * td.thickness_mm,
-                                    bd.Plane(origin=(-td.screw_station_mm, -td.thickness_mm, z), z_dir=(0, 1, 0)))
-             for z in td.screw_z_mm]
-    body = blade.fuse(tang).clean().cut(*holes)
+    body = blade.fuse(tang).clean()
     solids = body.solids()
     if len(solids) != 1:
         raise BuildError(f"caudal_fin: expected one solid, got {len(solids)}")

@@ -26,12 +26,21 @@ Interpretations (body frame of :mod:`swiftfin.layout.geometry`, mm):
   :func:`swiftfin.layout.geometry.cable_routes` crosses the mid-plane of a bulkhead.
 * **Mount fixings**: clearance holes (hull screw + 2 sliding clearance) along the normal through the wall at
   :func:`swiftfin.layout.geometry.mount_fixings_mm`.
-* **Caudal fin**: the peduncle ends in a solid plug with a slot for the fin's root tang
-  (:func:`cad.fin.tang_dims_mm`) and two cross holes (one in each half) for the screws that hold it.
+* **Caudal fin**: the peduncle ends in a solid plug with a socket for the fin's root tang
+  (:func:`cad.fin.tang_dims_mm`): the tang plus ``caudal_fin.root_fit_clearance_mm`` on each side. The screws that
+  draw the tang onto the socket's +y face are fastener records (:func:`swiftfin.layout.fin_plan.fin_fasteners`);
+  their holes are cut by the registry.
+* **Seams and splices** (fastener records of :func:`swiftfin.layout.hull_plan.hull_fasteners`, whose docstring
+  gives the arrangement): this module adds the material, the holes are cut by the registry
+  (:mod:`swiftfin.cad.fastening`). A seam screw gets a boss in the upper half (insert, blind) and a column in the
+  lower half from the seam face to the skin (counterbore, head from outside); a seam dowel a boss in each half,
+  and the bore in the half its record names in ``meta["slip_part"]`` is cut by the registry from the same record (the
+  registry cuts a pin's bore in its ``thread_part`` only). A station splice gets, per screw, a tab on the front
+  piece (insert) that slides under a pad (a local thickening of the shell, counterbore) of the rear piece.
 * **Printer bed**: each printed part (a half when ``hull.split_halves``, printed cut face down; a whole
   segment otherwise, printed standing on its end) must fit ``print.bed_*`` allowing a rotation about the
   vertical. A segment that does not is cut at stations into 2, 3, ... equal pieces (cut stations moved
-  away from the mount fixings); the front piece carries an internal splice tab (one per half) that reaches
+  away from the mount fixings); the front piece carries internal splice tabs (two per half) that reach
   into the rear piece. A cross-section too large for the bed is refused with :class:`UserError`.
 * A design whose joint links cannot be built (:func:`cad.link.joint_link_problems`) is refused with
   :class:`UserError` here too, since the clevis is made from the same numbers.
@@ -51,8 +60,8 @@ from swiftfin.cad.part import PartSpec
 from swiftfin.core.schema import Params
 
 from swiftfin.layout.hull_plan import (  # noqa: F401  the numbers, re-exported for the part family
-    SPLICE_LENGTH_MM, SPLICE_WIDTH_MM, HullPiece, NoseCap, bed_rotation_deg, flooded, hull_pieces,
-    hull_section_semi_axes_mm, nose_cap, printed_size_mm)
+    SPLICE_LENGTH_MM, HullPiece, NoseCap, SeamFeature, SpliceJoint, bed_rotation_deg, flooded, hull_fasteners,
+    hull_pieces, hull_section_semi_axes_mm, nose_cap, printed_size_mm, seam_features, splice_joint)
 
 
 # ----------------------------------------------------------------------------------------------- solids
@@ -163,42 +172,73 @@ def _fixing_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
 
 
 def _tail_features(p: Params, pc: HullPiece) -> list[bd.Solid]:
-    """Slot for the fin's root tang and two cross holes for its screws."""
+    """The socket for the fin's root tang: the tang plus the declared fit on each side (the tang's front end keeps
+    ``print.clearance_sliding_mm`` from the socket's bottom). The screws' holes come from their records."""
     td = tang_dims_mm(p)
-    cs = p.print.clearance_sliding_mm
+    c = td.fit_clearance_mm
     x_end = -pc.s_end_mm
-    depth = p.caudal_fin.mount_length_mm + cs
-    a, b = hull_section_semi_axes_mm(p, pc.s_end_mm - depth)
-    slot = box(x_end - 1.0, x_end + depth, -td.thickness_mm / 2 - cs, td.thickness_mm / 2 + cs,
-               -td.height_mm / 2 - cs, td.height_mm / 2 + cs)
-    xs = -td.screw_station_mm
-    holes = [rod((xs, -2 * a, z), (0, 1, 0), p.hull.screw_diameter_mm / 2 + cs, 4 * a) for z in td.screw_z_mm]
-    return [slot] + holes
+    depth = p.caudal_fin.mount_length_mm + p.print.clearance_sliding_mm
+    return [box(x_end - 1.0, x_end + depth, -td.thickness_mm / 2 - c, td.thickness_mm / 2 + c,
+                -td.height_mm / 2 - c, td.height_mm / 2 + c)]
 
 
-def _splice_tab(p: Params, pc: HullPiece, upper: bool) -> bd.Solid:
-    """Internal tab at the top (or bottom) of a station cut: fused to the front piece, a sliding fit inside
-    the rear piece's cavity, with a screw hole in the rear half."""
-    t, cs = p.hull.wall_thickness_mm, p.print.clearance_sliding_mm
-    s = pc.s_end_mm
-    lsp = SPLICE_LENGTH_MM
-    a, b = hull_section_semi_axes_mm(p, s)
-    zin = b - t
-    sg = 1 if upper else -1
-    w = min(SPLICE_WIDTH_MM / 2, 0.4 * (a - t))
-    z_lo, z_hi = sorted((sg * (zin - 3 * t), sg * (zin + 0.3 * t)))   # top inside the wall, not on a surface
-    front = isect(box(-s, -(s - lsp), -w, w, z_lo, z_hi), _loft(p, s - lsp - 1, s + 0.01, shrink=0.5 * t))
-    rear = isect(box(-(s + lsp), -s, -w, w, z_lo, z_hi), _loft(p, s - 0.01, s + lsp + 1, shrink=t + cs))
-    inner = _loft(p, s - lsp - 2, s + lsp + 2, shrink=2 * t + 0.5)
-    tab = front.fuse(rear).cut(inner)
-    return one_solid(tab, f"{pc.name} splice tab")
+def _slab(x0: float, x1: float, point_yz, normal_yz, half_width: float, out_mm: float, in_mm: float) -> bd.Solid:
+    """Box over x in [x0, x1] (body x), ``half_width`` either side of the line through ``point_yz`` along the unit
+    ``normal_yz`` (in the y-z plane), from ``out_mm`` outside the point to ``in_mm`` inside it along the normal."""
+    ny, nz = normal_yz
+    ly = (0.0, nz, -ny)                      # local y: perpendicular to the normal in the y-z plane
+    y0, z0 = point_yz
+    origin = (x0, y0 - half_width * ly[1] - out_mm * ny, z0 - half_width * ly[2] - out_mm * nz)
+    return bd.Solid.make_box(x1 - x0, 2 * half_width, out_mm + in_mm,
+                             bd.Plane(origin=origin, x_dir=(1, 0, 0), z_dir=(0, ny, nz)))
 
 
-def _splice_screw(p: Params, s_mm: float, upper: bool) -> bd.Solid:
-    a, b = hull_section_semi_axes_mm(p, s_mm + SPLICE_LENGTH_MM / 2)
-    x = -(s_mm + SPLICE_LENGTH_MM / 2)
-    r = p.hull.screw_diameter_mm / 2 + p.print.clearance_sliding_mm
-    return rod((x, 0, 0), (0, 0, 1 if upper else -1), r, b + 5)
+def _splice_frames(p: Params, sj: SpliceJoint):
+    """(skin point (y, z), inward normal (ny, nz)) of each splice screw's line: +-y on the upper and lower half."""
+    from swiftfin.layout.hull_plan import _splice_axis
+    out = []
+    for upper in (True, False):
+        (y, z), (ny, nz), _ = _splice_axis(p, sj.s_screw_mm, upper)
+        out += [((sg * y, z), (sg * ny, nz)) for sg in (1, -1)]
+    return out
+
+
+def _splice_tabs(p: Params, pc: HullPiece) -> list[bd.Solid]:
+    """The front piece's tabs: fused to its shell ahead of the cut, a sliding fit under the rear piece's pads
+    behind it, thick enough for the insert's pocket and a floor."""
+    sj = splice_joint(p, pc)
+    s, lsp, t = sj.s_cut_mm, SPLICE_LENGTH_MM, p.hull.wall_thickness_mm
+    inner = _loft(p, s - lsp - 2, s + lsp + 2, shrink=sj.tab_inner_shrink_mm)
+    front_band = _loft(p, s - lsp - 1, s + 0.01, shrink=0.5 * t).cut(inner)
+    rear_band = _loft(p, s - 0.01, s + lsp + 1, shrink=sj.tab_outer_shrink_mm).cut(inner)
+    out = []
+    for pt, n in _splice_frames(p, sj):
+        depth = sj.tab_inner_shrink_mm + 3.0
+        front = isect(_slab(-s, -(s - lsp), pt, n, sj.tab_half_width_mm, 1.0, depth), front_band)
+        rear = isect(_slab(-(s + lsp), -s, pt, n, sj.tab_half_width_mm, 1.0, depth), rear_band)
+        out.append(one_solid(front.fuse(rear).clean(), f"{pc.name} splice tab"))
+    return out
+
+
+def _splice_pads(p: Params, pc: HullPiece, front: HullPiece) -> list[bd.Solid]:
+    """The rear piece's pads: its shell thickened inward over each tab's zone, for the screw's counterbore and the
+    wall its head clamps."""
+    sj = splice_joint(p, front)
+    s, lsp, cs = sj.s_cut_mm, SPLICE_LENGTH_MM, p.hull.splice_fit_clearance_mm
+    band = _loft(p, s - 1, s + lsp + 2).cut(_loft(p, s - 2, s + lsp + 3, shrink=sj.pad_shrink_mm))
+    return [one_solid(isect(_slab(-(s + lsp + cs), -s, pt, n, sj.pad_half_width_mm, 1.0, sj.pad_shrink_mm + 3.0),
+                            band), f"{pc.name} splice pad") for pt, n in _splice_frames(p, sj)]
+
+
+def _seam_bosses(p: Params, pc: HullPiece, outer: bd.Solid) -> list[bd.Shape]:
+    """Each seam feature's boss in the upper half and boss (a screw: column to the skin) in the lower half, grown
+    from the seam face and kept inside the skin."""
+    out = []
+    for f in seam_features(p, pc):
+        up = rod((-f.s_mm, f.y_mm, 0.0), (0, 0, 1), f.boss_radius_mm, f.upper_height_mm)
+        lo = rod((-f.s_mm, f.y_mm, 0.0), (0, 0, -1), f.boss_radius_mm, f.lower_depth_mm)
+        out += [isect(up, outer), isect(lo, outer)]
+    return out
 
 
 def _vent_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
@@ -217,7 +257,8 @@ def _vent_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
 def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
     """The whole piece (before the split into halves), as one solid."""
     hw = {h.joint: h for h in all_joint_hardware(p)}
-    body = _outer(p, pc)
+    outer = _outer(p, pc)
+    body = outer
     c0, c1 = _cavity_range(p, pc)
     body = body.cut(_loft(p, c0, c1, shrink=p.hull.wall_thickness_mm))
     adds, cuts = [], []
@@ -229,9 +270,11 @@ def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
     if pc.front_joint is not None:
         cuts += _bolt_holes(hw[pc.front_joint], p)
     if pc.rear_cut:
-        adds += [_splice_tab(p, pc, True), _splice_tab(p, pc, False)]
+        adds += _splice_tabs(p, pc)
     if pc.front_cut:
-        cuts += [_splice_screw(p, pc.s_start_mm, True), _splice_screw(p, pc.s_start_mm, False)]
+        front = next(q for q in hull_pieces(p) if q.rear_cut and abs(q.s_end_mm - pc.s_start_mm) < 1e-9)
+        adds += _splice_pads(p, pc, front)
+    adds += _seam_bosses(p, pc, outer)
     if adds:
         body = body.fuse(*adds).clean()
     cuts += _cable_holes(p, pc) + _fixing_holes(p, pc) + _vent_holes(p, pc)

@@ -74,6 +74,17 @@ class Hull:
                                 "bulkhead")
     vent_hole_diameter_mm: float = p(4.0, 1.5, 12.0, "Vent holes at the top and bottom of each flooded segment "
                                      "(air out at the top, water in at the bottom)", "Engineering default")
+    seam_screw_spacing_mm: float = p(40.0, 10.0, 200.0, "Largest spacing along the body of the screws joining the "
+                                     "upper and lower hull halves (on each side, +y and -y)",
+                                     "Engineering default: M2 into inserts every 30-50 mm keeps a 2 mm PLA rim "
+                                     "closed (flange bolt pitch <= 10-20 wall thicknesses, VDI 2230 practice)")
+    splice_fit_clearance_mm: float = p(0.1, 0.0, 0.5, "Gap between a station splice's tab and the pad of the rear "
+                                       "piece it slides under (the splice screw closes it)",
+                                       "FDM close fit 0.05-0.15 mm per side (Prusa knowledge base, 'Tolerances'); "
+                                       "0.1 chosen")
+    seam_dowel_diameter_mm: float = p(2.0, min(DOWELS), max(DOWELS), "Dowel pins aligning the hull halves (one on "
+                                      "each side of every piece, ISO 8734, in reamed bores)",
+                                      "Engineering default; sizes of catalogues/pins.toml", choices=DOWELS)
 
 
 @dataclass(frozen=True)
@@ -186,6 +197,10 @@ class CaudalFin:
                                 "Engineering default (>= 2 line widths)")
     mount_length_mm: float = p(15.0, 5.0, 60.0, "Length of the root tang that slots into the peduncle",
                                "Engineering default")
+    root_fit_clearance_mm: float = p(0.1, 0.0, 0.5, "Gap on each side between the fin's root tang and the "
+                                     "peduncle's socket (a close fit; the screws draw the tang onto one face)",
+                                     "FDM close fit 0.05-0.15 mm per side for parts that must not rattle "
+                                     "(Prusa knowledge base, 'Tolerances'); 0.1 chosen")
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,26 @@
-"""The hull's plan as numbers: the nose cap, the section at a station, the split into printable pieces and
-which links flood. No CAD kernel: the bed-fit rule and the mass model read it without building a solid; the
-solids are made by :mod:`swiftfin.cad.hull` from the same numbers.
+"""The hull's plan as numbers: the nose cap, the section at a station, the split into printable pieces, which
+links flood, and the fasteners that hold the pieces together. No CAD kernel: the bed-fit rule and the mass model
+read it without building a solid; the solids are made by :mod:`swiftfin.cad.hull` from the same numbers.
+
+Fasteners (:func:`hull_fasteners`, registered in ``cad/fastening.py``; body frame at rest, mm):
+
+* **Seams** (``hull.split_halves``): along each side (+y and -y) of every piece, ``ceil(length /
+  hull.seam_screw_spacing_mm)`` (at least one) vertical cap screws ``hull.screw_diameter_mm`` driven from the
+  belly: the head sits in a counterbore of a column of the lower half that grows from the seam face down to the
+  skin, the thread in a brass heat-set insert in a boss of the upper half that grows from the seam face up
+  (``insert_pocket_depth`` + a floor of ``print.top_layers`` layers: the pocket is blind, so the dry head's cavity
+  stays closed). Heads from below because above the seam the motor-mount plates reach the side walls
+  (z = 9.6-21 mm) while below it the motors keep 10 mm from the walls; the driver's path is outside the hull.
+  The axis is as far out as the insert's wall to the skin allows (:func:`seam_axis_y_mm`); the screw is the
+  longest catalogue length whose head still sinks fully below the skin there. One ISO 8734 dowel pin per side
+  (``hull.seam_dowel_diameter_mm``; the first feature on +y, the last on -y) in reamed bores of bosses on both
+  halves aligns them; its record names the upper half (press fit) and ``meta["joins_parts"]`` the lower half,
+  whose bore :mod:`swiftfin.cad.hull` cuts from the same record. Features keep out of the bulkheads and out of
+  the swing of the link behind (the link's sector radius + ``print.clearance_assembly_mm``).
+* **Station splices** (a segment cut to fit the bed): per half two screws entering the skin at
+  ``y = +-SPLICE_Y_FRACTION`` of the inner half-width, along the shell's inward normal, heads in
+  counterbores of a local thickening (pad) of the rear piece's shell, threads in inserts in two tabs of the
+  front piece that slide under the pads (:func:`splice_joint`).
 """
 from __future__ import annotations
 
@@ -9,12 +29,20 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swiftfin.core.errors import UserError
+from swiftfin.catalogues.fasteners import dowel, fastener
+from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L
+from swiftfin.layout.fastening import Fastener
 
 SPLICE_LENGTH_MM = 10.0      # splice tab length on each side of a station cut
-SPLICE_WIDTH_MM = 14.0
+SPLICE_Y_FRACTION = 0.7      # splice screws enter the skin at this fraction of the inner half-width off the centre
+                             # line; along the shell's normal their tabs then lie at |y| = 14-25 mm: clear of the
+                             # battery on the keel (|y| <= 13.2 mm) and of the motors (|z| <= 34 mm) on the crest
+SEAM_MARGIN_MM = 0.2         # wall kept beyond each rule: the loft departs from the exact ellipse by < 0.05 mm and
+                             # the hull tapers under a boss
+BOSS_OVERLAP_MM = 0.5        # a seam boss overlaps a bulkhead by this, or keeps this from a cut end
+BORE_OVERRUN_MM = 0.5        # the fastener cutters run this far past a pin's ends (cad.fastening.OVERCUT_MM)
 
 
 # ----------------------------------------------------------------------------------------------- numbers
@@ -155,3 +183,260 @@ def hull_pieces(p: Params) -> tuple[HullPiece, ...]:
 def flooded(p: Params, link: int) -> bool:
     """Whether the hull segments of ``link`` flood (``hull.flooded_from_joint``)."""
     return link >= p.hull.flooded_from_joint
+
+
+# ----------------------------------------------------------------------------------------------- fasteners
+def part_label(p: Params, pc: HullPiece, half: str) -> str:
+    """Label of the printed part of ``pc`` holding its ``half`` ("upper"/"lower"): the half, or the whole piece."""
+    return f"{pc.name}_{half}" if p.hull.split_halves else pc.name
+
+
+def _y_out(a: float, b: float, z: float) -> float:
+    """Outer half-width at height z of the section with semi-axes a, b (0 beyond the section)."""
+    return a * math.sqrt(max(0.0, 1.0 - (z / b) ** 2))
+
+
+def _z_out(a: float, b: float, y: float) -> float:
+    """Outer half-height at lateral offset y (0 beyond the section)."""
+    return b * math.sqrt(max(0.0, 1.0 - (y / a) ** 2))
+
+
+def _semi_axes_under(p: Params, s_mm: float, r_mm: float) -> tuple[float, float]:
+    """The smallest outer section over [s - r, s + r] (a boss of radius r there must fit the narrowest)."""
+    return min((hull_section_semi_axes_mm(p, s_mm + d) for d in (-r_mm, 0.0, r_mm)), key=lambda ab: ab[0])
+
+
+def seam_screw_radius_mm(p: Params) -> float:
+    """Radius of a seam screw's boss (upper half) and column (lower half): the insert boss rule and two perimeters
+    round the counterbore, plus the margin."""
+    s, lw = fastener(p.hull.screw_diameter_mm), p.print.line_width_mm
+    return max(s.insert_boss_od_mm(lw) / 2, s.counterbore_diameter_mm / 2 + 2 * lw) + SEAM_MARGIN_MM
+
+
+def seam_dowel_radius_mm(p: Params) -> float:
+    return p.hull.seam_dowel_diameter_mm / 2 + 2 * p.print.line_width_mm + SEAM_MARGIN_MM
+
+
+def boss_floor_mm(p: Params) -> float:
+    """Material closing a blind pocket: its end is a top surface in print orientation (print.top_layers)."""
+    return p.print.top_layers * p.print.layer_height_mm
+
+
+def seam_dowel_length_mm(p: Params) -> float:
+    """ISO 8734 length: at least 2 d in each half."""
+    d = p.hull.seam_dowel_diameter_mm
+    length = dowel(d).length_for(4 * d)
+    if length is None:
+        raise BuildError(f"no {d:g} mm dowel of {4 * d:g} mm or more in catalogues/pins.toml")
+    return length
+
+
+def seam_axis_y_mm(p: Params, s_mm: float, kind: str) -> float:
+    """|y| of a seam screw's (or dowel's) vertical axis at station s: as far out as its hole's wall to the skin
+    allows (insert: the insert maker's wall over the pocket's depth; dowel: two perimeters over the bore)."""
+    lw = p.print.line_width_mm
+    if kind == "screw":
+        s = fastener(p.hull.screw_diameter_mm)
+        r, depth = seam_screw_radius_mm(p), s.insert_pocket_depth_mm
+        need = s.insert_hole_mm / 2 + max(2 * lw, s.insert_wall_min_mm)
+    else:
+        r, depth = seam_dowel_radius_mm(p), seam_dowel_length_mm(p) / 2 + BORE_OVERRUN_MM
+        need = p.hull.seam_dowel_diameter_mm / 2 + 2 * lw
+    a, b = _semi_axes_under(p, s_mm, r)
+    return _y_out(a, b, depth) - need - SEAM_MARGIN_MM
+
+
+@dataclass(frozen=True)
+class SeamFeature:
+    """A screw or dowel across the seam of a piece: vertical axis at (x = -s, y), bosses grown from the seam face."""
+    kind: str                 # "screw" | "dowel"
+    piece: str
+    side: int                 # +1: on the +y side, -1: on the -y side
+    index: int                # along the side, nose to tail
+    s_mm: float
+    y_mm: float
+    boss_radius_mm: float
+    upper_height_mm: float    # boss above the seam face in the upper half
+    lower_depth_mm: float     # boss below it in the lower half (a screw's column: down to the skin)
+
+
+def _seam_range(p: Params, pc: HullPiece) -> tuple[float, float]:
+    """Stations [lo, hi] the features' centres may take: out of the bulkheads and the tail plug, and the feature
+    out of the swing of the link behind."""
+    from swiftfin.layout.joints import joint_hardware
+    t = p.hull.bulkhead_thickness_mm
+    r = max(seam_screw_radius_mm(p), seam_dowel_radius_mm(p))
+    e = BOSS_OVERLAP_MM    # a boss reaches this far into a bulkhead (solids that overlap fuse cleanly; tangent ones
+    #                        leave faces that touch along a line) and stays this far from a cut end
+    lo = pc.s_start_mm + (t + r - e if pc.front_joint is not None else r + e)
+    if pc.nose:
+        lo = max(lo, nose_cap(p).s_cap_mm + r - e)
+    hi = pc.s_end_mm - (t + r - e if pc.rear_joint is not None else r + e)
+    if pc.tail:
+        hi = min(hi, pc.s_end_mm - p.caudal_fin.mount_length_mm - p.print.clearance_sliding_mm - t - r + e)
+    if pc.rear_joint is not None:
+        h = joint_hardware(p, pc.rear_joint)
+        reach = max(h.sector_radius_mm, h.block_outer_radius_mm, h.tongue_radius_mm) + p.print.clearance_assembly_mm
+        s_axis = -h.x_mm
+        while hi > lo and math.hypot(s_axis - hi, seam_axis_y_mm(p, hi, "screw")) - r < reach:
+            hi -= 0.5
+    return lo, hi
+
+
+def seam_features(p: Params, pc: HullPiece) -> tuple[SeamFeature, ...]:
+    """Screws and dowels along both sides of the seam of ``pc`` (none when the hull is not split)."""
+    if not p.hull.split_halves:
+        return ()
+    lo, hi = _seam_range(p, pc)
+    rs, rd = seam_screw_radius_mm(p), seam_dowel_radius_mm(p)
+    if hi < lo:
+        raise BuildError(f"{pc.name}: no room for a seam screw between its bulkheads ({lo:.1f} > {hi:.1f} mm)")
+    n = max(1, math.ceil((hi - lo) / p.hull.seam_screw_spacing_mm - 1e-9))
+    with_dowel = (hi - lo) / n >= rs + rd
+    k = n + (1 if with_dowel else 0)
+    ss = [0.5 * (lo + hi)] if k == 1 else [lo + i * (hi - lo) / (k - 1) for i in range(k)]
+    screw = fastener(p.hull.screw_diameter_mm)
+    floor = boss_floor_mm(p)
+    ld = seam_dowel_length_mm(p)
+    out = []
+    for side in (1, -1):
+        kinds = ["screw"] * n
+        if with_dowel:
+            kinds = ["dowel"] + kinds if side > 0 else kinds + ["dowel"]
+        for i, (kind, s) in enumerate(zip(kinds, ss)):
+            y = side * seam_axis_y_mm(p, s, kind)
+            if kind == "screw":
+                a, b = _semi_axes_under(p, s, rs)
+                out.append(SeamFeature(kind, pc.name, side, i, s, y, rs, screw.insert_pocket_depth_mm + floor,
+                                       b + 1.0))
+            else:
+                depth = ld / 2 + BORE_OVERRUN_MM + floor
+                out.append(SeamFeature(kind, pc.name, side, i, s, y, rd, depth, depth))
+    return tuple(out)
+
+
+def _seam_fasteners(p: Params, pc: HullPiece) -> list[Fastener]:
+    s = fastener(p.hull.screw_diameter_mm)
+    up, lo = part_label(p, pc, "upper"), part_label(p, pc, "lower")
+    out = []
+    for f in seam_features(p, pc):
+        tag = f"{pc.name}_seam_{'p' if f.side > 0 else 'm'}y_{f.index + 1}"
+        if f.kind == "dowel":
+            ld = seam_dowel_length_mm(p)
+            out.append(Fastener(tag, f"{p.hull.seam_dowel_diameter_mm:g}", "dowel", "press", (-f.s_mm, f.y_mm, -ld / 2),
+                                (0.0, 0.0, 1.0), ld, 0.0, None, up, f"aligns the halves of {pc.name}", pc.link,
+                                meta={"joins_parts": (lo,), "slip_part": lo}))
+            continue
+        a, b = _semi_axes_under(p, f.s_mm, f.boss_radius_mm)
+        y = abs(f.y_mm)
+        r_head = s.head_diameter_mm / 2
+        # the head (its counterbore depth) sinks fully below the skin; the clearance hole keeps two perimeters
+        g_head = _z_out(a, b, y + r_head + SEAM_MARGIN_MM) - s.counterbore_depth_mm
+        g_hole = _z_out(a, b, y + s.clearance_hole_mm / 2 + 2 * p.print.line_width_mm + SEAM_MARGIN_MM)
+        length = s.length_at_most(min(g_head, g_hole) + s.insert_length_mm)
+        grip = None if length is None else length - s.insert_length_mm
+        if grip is None or grip < 2 * p.print.line_width_mm:
+            raise BuildError(f"{tag}: no {s.name} length leaves its head under the skin (room {g_head:.1f} mm)")
+        recess = _z_out(a, b, max(0.0, y - s.counterbore_diameter_mm / 2)) - grip
+        out.append(Fastener(tag, s.name, "cap_screw", "insert", (-f.s_mm, f.y_mm, -grip), (0.0, 0.0, 1.0), length,
+                            grip, lo, up, f"closes the seam of {pc.name} (from the belly)", pc.link,
+                            recess_mm=recess))
+    return out
+
+
+@dataclass(frozen=True)
+class SpliceJoint:
+    """The screwed splice at a station cut (front piece: tabs; rear piece: pads). Depths are the shrinks of the
+    hull's loft (both semi-axes reduced), which the solids use directly."""
+    s_cut_mm: float
+    s_screw_mm: float
+    y_abs_mm: float            # the screws and tabs at y = +-y_abs
+    tab_half_width_mm: float
+    pad_half_width_mm: float
+    pad_shrink_mm: float       # the rear piece's shell is this thick under the tabs' zone
+    tab_outer_shrink_mm: float
+    tab_inner_shrink_mm: float
+    normal_yz: tuple[float, float]   # inward unit normal of the skin at the +y, upper screw (the screw's axis)
+
+
+def _shrink_for_depth(a: float, b: float, point, normal, depth: float) -> float:
+    """The loft shrink whose ellipse the ray point + u normal meets at u = depth (bisection)."""
+    y0, z0 = point
+    ny, nz = normal
+    y, z = y0 + depth * ny, z0 + depth * nz
+    lo, hi = 0.0, 2 * depth + 1.0
+    for _ in range(60):
+        d = 0.5 * (lo + hi)
+        if (y / (a - d)) ** 2 + (z / (b - d)) ** 2 > 1.0:
+            hi = d          # the point is outside the shrunk ellipse: shrink less
+        else:
+            lo = d
+    return 0.5 * (lo + hi)
+
+
+def _splice_axis(p: Params, s_mm: float, upper: bool) -> tuple[tuple[float, float], tuple[float, float], float]:
+    """(skin point (y, z) at +y, inward unit normal (ny, nz), y_abs) of a splice screw at station s."""
+    a, b = hull_section_semi_axes_mm(p, s_mm)
+    y = SPLICE_Y_FRACTION * (a - p.hull.wall_thickness_mm)
+    z = _z_out(a, b, y) * (1 if upper else -1)
+    ny, nz = -y / a**2, -z / b**2
+    n = math.hypot(ny, nz)
+    return (y, z), (ny / n, nz / n), y
+
+
+def splice_screw_length_mm(p: Params) -> tuple[float, float]:
+    """(length, grip): the shortest screw clamping a wall's thickness of pad plus the sliding gap into an insert."""
+    s = fastener(p.hull.screw_diameter_mm)
+    length = s.length_for(p.hull.wall_thickness_mm + p.hull.splice_fit_clearance_mm + s.insert_length_mm)
+    if length is None:
+        raise BuildError(f"no {s.name} screw long enough for the hull splice")
+    return length, length - s.insert_length_mm
+
+
+def splice_recess_mm(p: Params) -> float:
+    """Head below the skin: the counterbore depth and the margin for the skin's curvature over the head."""
+    return fastener(p.hull.screw_diameter_mm).counterbore_depth_mm + 0.3
+
+
+def splice_joint(p: Params, front: HullPiece) -> SpliceJoint:
+    """Numbers of the splice behind ``front`` (a piece with ``rear_cut``)."""
+    s = fastener(p.hull.screw_diameter_mm)
+    sc = front.s_end_mm + SPLICE_LENGTH_MM / 2
+    a, b = hull_section_semi_axes_mm(p, sc)
+    pt, n, y = _splice_axis(p, sc, True)
+    _, grip = splice_screw_length_mm(p)
+    u_tab = splice_recess_mm(p) + grip
+    outer = _shrink_for_depth(a, b, pt, n, u_tab)
+    inner = _shrink_for_depth(a, b, pt, n, u_tab + s.insert_pocket_depth_mm + boss_floor_mm(p))
+    w = seam_screw_radius_mm(p) + 1.0
+    return SpliceJoint(front.s_end_mm, sc, y, w, w + p.hull.splice_fit_clearance_mm + 2 * p.print.line_width_mm,
+                       outer - p.hull.splice_fit_clearance_mm, outer, inner, n)
+
+
+def _splice_fasteners(p: Params, front: HullPiece, rear: HullPiece) -> list[Fastener]:
+    s = fastener(p.hull.screw_diameter_mm)
+    sj = splice_joint(p, front)
+    length, grip = splice_screw_length_mm(p)
+    recess = splice_recess_mm(p)
+    out = []
+    for half, upper in (("upper", True), ("lower", False)):
+        (y, z), (ny, nz), _ = _splice_axis(p, sj.s_screw_mm, upper)
+        for sg, tag in ((1, "py"), (-1, "my")):
+            head = (-sj.s_screw_mm, sg * (y + recess * ny), z + recess * nz)
+            out.append(Fastener(f"{front.name}_splice_{half}_{tag}", s.name, "cap_screw", "insert", head,
+                                (0.0, sg * ny, nz), length, grip, part_label(p, rear, half),
+                                part_label(p, front, half), f"splices {front.name} to {rear.name} ({half})",
+                                front.link, recess_mm=recess))
+    return out
+
+
+def hull_fasteners(p: Params) -> tuple[Fastener, ...]:
+    """Every fastener joining hull parts: the seams' screws and dowels and the station splices' screws."""
+    pieces = hull_pieces(p)
+    out: list[Fastener] = []
+    for pc in pieces:
+        out += _seam_fasteners(p, pc)
+    for front, rear in zip(pieces[:-1], pieces[1:]):
+        if front.rear_cut:
+            out += _splice_fasteners(p, front, rear)
+    return tuple(out)

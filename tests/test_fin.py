@@ -18,7 +18,17 @@ P = Params()
 
 @pytest.fixture(scope="session")
 def fin():
-    return make_caudal_fin(P)[0]
+    """The fin as the registry gives it: with the root screws' pilots cut."""
+    from swiftfin.cad.registry import family_function
+    return family_function("fin")(P)[0]
+
+
+@pytest.fixture(scope="session")
+def peduncle():
+    from swiftfin.cad.fastening import apply_fasteners
+    from swiftfin.cad.hull import hull_pieces, piece_parts
+    pc = next(pc for pc in hull_pieces(P) if pc.tail)
+    return {ps.meta["half"]: ps.solid for ps in apply_fasteners(P, piece_parts(P, pc))}
 
 
 @pytest.fixture(scope="session")
@@ -102,9 +112,75 @@ def test_tang_mounts_the_fin_to_the_peduncle(fin):
     s = L.hull_end_mm(P) - 2.0
     sec = bd.section(fin.solid, bd.Plane(origin=(-s, 0, 0), x_dir=(0, 1, 0), z_dir=(1, 0, 0)))
     assert sum(f.area for f in sec.faces()) == pytest.approx(td.thickness_mm * td.height_mm, rel=1e-9)
-    # screw holes through the tang
-    for z in td.screw_z_mm:
-        assert not fin.solid.is_inside(bd.Vector(-td.screw_station_mm, 0.0, z))
+    # a pilot through the tang at each root screw, at two stations along the body
+    assert len(td.screw_stations_mm) == 2 and td.screw_stations_mm[1] - td.screw_stations_mm[0] >= 5.0
+    for st in td.screw_stations_mm:
+        for z in td.screw_z_mm:
+            assert not fin.solid.is_inside(bd.Vector(-st, 0.0, z))
+
+
+def _inside(solid, x, y, z) -> bool:
+    return solid.is_inside(bd.Vector(x, y, z))
+
+
+def _edge(solid, x, z, y_in: float, y_out: float, want_inside_at_in: bool) -> float:
+    """|y| where the solid's material starts or ends between y_in and y_out (bisection to 1 um)."""
+    for _ in range(40):
+        mid = 0.5 * (y_in + y_out)
+        if _inside(solid, x, mid, z) == want_inside_at_in:
+            y_in = mid
+        else:
+            y_out = mid
+    return abs(0.5 * (y_in + y_out))
+
+
+def test_root_tang_slop_is_the_declared_fit_measured_on_the_solids(fin, peduncle):
+    """Between the screws, across y and z: socket (measured on the hull halves) minus tang (measured on the fin)
+    is caudal_fin.root_fit_clearance_mm on each side (was 0.3 mm of slop per side)."""
+    td = tang_dims_mm(P)
+    fit = P.caudal_fin.root_fit_clearance_mm
+    assert td.fit_clearance_mm == fit and fit <= 0.15
+    x = -(td.screw_stations_mm[0] + td.screw_stations_mm[1]) / 2
+    z = td.height_mm / 4
+    for sg in (1, -1):
+        tang = _edge(fin.solid, x, z, 0.0, sg * td.thickness_mm, True)
+        socket = _edge(peduncle["upper"], x, z, sg * 6.0, 0.0, True)
+        assert socket - tang == pytest.approx(fit, abs=2e-3)
+        assert socket - tang <= fit + 2e-3
+    # and in z (top of the tang against the socket's roof, in the upper half)
+    def z_edge(solid, z_in, z_out, want):
+        for _ in range(40):
+            mid = 0.5 * (z_in + z_out)
+            z_in, z_out = (mid, z_out) if _inside(solid, x, 0.0, mid) == want else (z_in, mid)
+        return 0.5 * (z_in + z_out)
+    ztang = z_edge(fin.solid, 0.0, td.height_mm, True)
+    zsock = z_edge(peduncle["upper"], td.height_mm, 0.5, True)
+    assert zsock - ztang == pytest.approx(fit, abs=2e-3)
+
+
+def test_root_screws_two_stations_coaxial_holes_and_thread_in_the_tang(fin, peduncle):
+    """Four records (two stations x two halves); along each axis the peduncle has a clearance hole and counterbore
+    from the skin to the socket, the tang a pilot; the tip stays inside the tang; full engagement."""
+    from swiftfin.layout.fin_plan import fin_fasteners
+    td = tang_dims_mm(P)
+    recs = fin_fasteners(P)
+    assert len(recs) == 4 and len({round(f.head_mm[0], 6) for f in recs}) == 2
+    for f in recs:
+        assert f.problems() == [] and f.engagement_mm >= 1.5 * 2.0
+        s = f.screw
+        half = peduncle[f.head_part.rsplit("_", 1)[1]]
+        for d in np.linspace(-1.0, f.grip_mm - 0.05, 8):              # head recess and clearance hole
+            assert not _inside(half, *f.point_mm(d))
+        for d in np.linspace(f.grip_mm + 0.2, f.length_mm, 6):          # pilot in the tang: open on the axis
+            assert not _inside(fin.solid, *f.point_mm(d))
+        c = f.point_mm(f.grip_mm + 1.5)                                 # ... with tang material round it
+        for dx, dz in ((1, 0), (-1, 0), (0, 1), (0, -1)):
+            assert _inside(fin.solid, c[0] + dx * (s.pilot_hole_mm / 2 + 0.3), c[1], c[2] + dz * (s.pilot_hole_mm / 2 + 0.3))
+        assert f.tip_mm[1] >= -td.thickness_mm / 2 + 0.5 - 1e-9        # no hole needed in the far wall
+        # the head bears on the peduncle's wall and sits below its skin
+        h = f.point_mm(0.3)
+        assert _inside(half, h[0] + s.head_diameter_mm / 2 - 0.05, h[1], h[2])
+        assert f.recess_mm >= s.counterbore_depth_mm
 
 
 def test_golden(fin, update_golden):

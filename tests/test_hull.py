@@ -1,4 +1,5 @@
-"""Hull segments: validity, the NACA profile measured on the B-rep, joint interfaces, bed fit, golden values."""
+"""Hull segments: validity, the NACA profile measured on the B-rep, joint interfaces, seams and splices (screws,
+inserts, dowels probed on the solids), bed fit, golden values."""
 from __future__ import annotations
 
 import dataclasses
@@ -10,8 +11,8 @@ import pytest
 
 from swiftfin.layout import geometry as L
 from swiftfin.cad.fin import make_caudal_fin
-from swiftfin.cad.hull import (bed_rotation_deg, hull_pieces, hull_section_semi_axes_mm, make_hull_segments,
-                      nose_cap, piece_parts, piece_solid)
+from swiftfin.cad.hull import (bed_rotation_deg, flooded, hull_pieces, hull_section_semi_axes_mm,
+                               make_hull_segments, nose_cap, piece_parts, piece_solid)
 from swiftfin.cad.link import joint_hardware, make_joint_links
 from swiftfin.core.errors import UserError
 from OCP.BRepAdaptor import BRepAdaptor_Surface
@@ -27,7 +28,9 @@ DEFAULT_LABELS = [f"{n}_{h}" for n in ("hull_head_front", "hull_head_rear", "hul
 
 @pytest.fixture(scope="session")
 def hull_parts():
-    return {ps.label: ps for ps in make_hull_segments(P)}
+    """The printed hull parts as the registry gives them: with every fastener's holes cut."""
+    from swiftfin.cad.registry import family_function
+    return {ps.label: ps for ps in family_function("hull")(P)}
 
 
 @pytest.fixture(scope="session")
@@ -60,12 +63,17 @@ def test_default_labels_and_one_valid_solid_each(hull_parts):
         assert ps.solid.volume > 1000.0, label
 
 
-def test_peduncle_halves_are_mirror_images(hull_parts):
-    """The peduncle has no feature that breaks the z -> -z symmetry (its link's bolts sit at +/- z too)."""
-    up, lo = hull_parts["hull_peduncle_upper"].solid, hull_parts["hull_peduncle_lower"].solid
-    assert precise_volume_mm3(up) == pytest.approx(precise_volume_mm3(lo), rel=1e-6)
-    bu, bl = up.bounding_box(), lo.bounding_box()
-    assert (bu.max.Z, bu.min.X, bu.max.Y) == pytest.approx((-bl.min.Z, bl.min.X, bl.max.Y), abs=1e-5)
+def test_peduncle_halves_share_their_outline():
+    """Before the seam's bosses and holes, the peduncle has no feature that breaks the z -> -z symmetry (its link's
+    bolts sit at +/- z too); with them both halves still have the same outline."""
+    pc = next(pc for pc in hull_pieces(P) if pc.tail)
+    plain = dataclasses.replace(P, hull=dataclasses.replace(P.hull, split_halves=False))
+    solid = piece_solid(plain, pc)
+    big = bd.Solid.make_box(1000, 400, 200, bd.Plane(origin=(-900, -200, 0)))
+    up = solid.intersect(big)
+    lo = solid.intersect(big.mirror(bd.Plane.XY))
+    vu, vl = (sum(x.volume for sh in h for x in sh.solids()) for h in (up, lo))
+    assert vu == pytest.approx(vl, rel=1e-6)
 
 
 def test_halves_meet_at_z0_and_links_are_the_segments(hull_parts):
@@ -116,11 +124,12 @@ def test_nose_cap_is_tangent_to_the_naca_curve_and_measured_on_the_solid(hull_pa
 
 
 def test_wall_thickness_in_mid_segment(hull_parts):
-    """Half of a slab at s = 100 mm, measured at y > 0 only: material between the inner and outer ellipse."""
+    """Half of a slab at s = 80 mm (between two seam screws), measured at y > 0 only: material between the inner and
+    outer ellipse."""
     solid = hull_parts["hull_head_front_upper"].solid
-    a, b = hull_section_semi_axes_mm(P, 100.0)
+    a, b = hull_section_semi_axes_mm(P, 80.0)
     t = P.hull.wall_thickness_mm
-    inside = lambda y, z: solid.is_inside(bd.Vector(-100.0, y, z))  # noqa: E731
+    inside = lambda y, z: solid.is_inside(bd.Vector(-80.0, y, z))  # noqa: E731
     assert inside(a - t / 2, 0.5)
     assert not inside(a - t - 0.3, 0.5)
     assert not inside(a + 0.3, 0.5)
@@ -317,6 +326,168 @@ def test_peduncle_does_not_depend_on_the_fin_planform():
     pc = next(pc for pc in hull_pieces(P) if pc.tail)
     a, b = piece_solid(P, pc), piece_solid(other, pc)
     assert precise_volume_mm3(a) == pytest.approx(precise_volume_mm3(b), rel=1e-12)
+
+
+# ----------------------------------------------------------------------------------------------- seams, splices
+def _seam_records(kind=None):
+    from swiftfin.layout.hull_plan import hull_fasteners
+    return [f for f in hull_fasteners(P) if "_seam_" in f.label and (kind is None or f.kind == kind)]
+
+
+def _ring(f, depth_mm: float, radius_mm: float, n: int = 12):
+    """Points round the axis of ``f`` at ``depth_mm`` from its head and ``radius_mm`` from the axis."""
+    a = np.asarray(f.axis, dtype=float)
+    u = np.cross(a, [1.0, 0.0, 0.0] if abs(a[0]) < 0.9 else [0.0, 1.0, 0.0])
+    u /= np.linalg.norm(u)
+    v = np.cross(a, u)
+    c = f.point_mm(depth_mm)
+    return [c + radius_mm * (math.cos(t) * u + math.sin(t) * v) for t in np.linspace(0, 2 * math.pi, n, endpoint=False)]
+
+
+def _inside(solid, q) -> bool:
+    return solid.is_inside(bd.Vector(*map(float, q)))
+
+
+def test_every_piece_has_seam_screws_on_both_sides_within_the_spacing():
+    from swiftfin.layout.hull_plan import seam_features
+    for pc in hull_pieces(P):
+        feats = seam_features(P, pc)
+        for side in (1, -1):
+            screws = sorted(f.s_mm for f in feats if f.side == side and f.kind == "screw")
+            assert screws, (pc.name, side)
+            assert all(b - a <= P.hull.seam_screw_spacing_mm + 1e-9 for a, b in zip(screws[:-1], screws[1:]))
+            assert len([f for f in feats if f.side == side and f.kind == "dowel"]) == 1, (pc.name, side)
+    # the records: one per feature, each with the catalogue's length and full engagement in its insert
+    recs = _seam_records("cap_screw")
+    assert len(recs) == sum(1 for pc in hull_pieces(P) for f in seam_features(P, pc) if f.kind == "screw")
+    assert all(f.problems() == [] and f.engagement_mm >= 3.0 for f in recs)
+
+
+def test_seam_screw_insert_pocket_and_counterbore_are_coaxial_on_the_solids(hull_parts):
+    """Along each seam screw's axis, from under its head to the bottom of its insert's pocket, neither half has
+    material (the clearance hole of the lower half runs into the pocket of the upper half); round the pocket, the
+    hole and the head there is material, and the pocket is blind."""
+    for f in _seam_records("cap_screw"):
+        s = f.screw
+        lower, upper = hull_parts[f.head_part].solid, hull_parts[f.thread_part].solid
+        for d in np.linspace(-1.0, f.grip_mm + s.insert_pocket_depth_mm - 0.1, 12):
+            q = f.point_mm(d)
+            assert not _inside(lower, q) and not _inside(upper, q), (f.label, d)
+        # the counterbore: the head's rim (radius 1.9 mm) is free above the head face, on material below it
+        assert not any(_inside(lower, q) for q in _ring(f, -0.5, s.head_diameter_mm / 2)), f.label
+        assert all(_inside(lower, q) for q in _ring(f, 0.3, s.head_diameter_mm / 2)), f.label
+        # the clearance hole's wall and the insert's wall (two perimeters / the insert maker's wall)
+        lw = P.print.line_width_mm
+        assert all(_inside(lower, q) for q in _ring(f, f.grip_mm / 2, s.clearance_hole_mm / 2 + 2 * lw - 0.05))
+        need = max(2 * lw, s.insert_wall_min_mm)
+        for d in (f.grip_mm + 0.3, f.grip_mm + s.insert_length_mm - 0.3):
+            assert not any(_inside(upper, q) for q in _ring(f, d, s.insert_hole_mm / 2 - 0.05)), f.label
+            assert all(_inside(upper, q) for q in _ring(f, d, s.insert_hole_mm / 2 + need - 0.05)), f.label
+        # blind: the floor over the pocket
+        assert _inside(upper, f.point_mm(f.grip_mm + s.insert_pocket_depth_mm + 0.5)), f.label
+
+
+def _radial_wall_mm(solid, centre, u, r0: float, r_max: float = 6.0) -> float:
+    """Material from radius r0 outward along u until the first point outside (0.5 mm steps, then bisection to
+    0.01 mm; a wall thicker than r_max - r0 is reported as that)."""
+    if not _inside(solid, centre + r0 * u):
+        return 0.0
+    lo, hi = r0, r0
+    while hi < r_max and _inside(solid, centre + hi * u):
+        lo, hi = hi, hi + 0.5
+    while hi - lo > 0.01:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if _inside(solid, centre + mid * u) else (lo, mid)
+    return lo - r0
+
+
+def test_wall_round_every_seam_insert_meets_the_rule_measured_on_the_solid(hull_parts):
+    """Radial material round each insert's pocket, in 16 directions at two depths, measured by bisection on the
+    upper half: at least max(2 perimeters, insert maker's wall)."""
+    worst = math.inf
+    for f in _seam_records("cap_screw"):
+        s = f.screw
+        upper = hull_parts[f.thread_part].solid
+        need = max(2 * P.print.line_width_mm, s.insert_wall_min_mm)
+        for d in (f.grip_mm + 0.3, f.grip_mm + s.insert_length_mm - 0.3):
+            c = f.point_mm(d)
+            for t in np.linspace(0, 2 * math.pi, 16, endpoint=False):
+                u = np.array([math.cos(t), math.sin(t), 0.0])
+                w = _radial_wall_mm(upper, c, u, s.insert_hole_mm / 2 + 0.01)
+                worst = min(worst, w)
+                assert w >= need - 0.02, (f.label, d, round(math.degrees(t)), w)
+    print(f"worst wall round a seam insert: {worst:.2f} mm")
+
+
+def test_seam_screws_leave_the_dry_head_closed(hull_parts):
+    """In the sealed head pieces, round every seam screw's hole (clearance hole, counterbore, insert pocket) the
+    points two perimeters out are material or outside the skin, never in the cavity."""
+    from swiftfin.cad.hull import _cavity_range
+    lw, t = P.print.line_width_mm, P.hull.wall_thickness_mm
+    n_checked = 0
+    for f in _seam_records("cap_screw"):
+        pc = next(pc for pc in hull_pieces(P) if f.head_part.startswith(pc.name + "_"))
+        if flooded(P, pc.link):
+            continue
+        s = f.screw
+        a, b = hull_section_semi_axes_mm(P, -f.head_mm[0])
+        lower, upper = hull_parts[f.head_part].solid, hull_parts[f.thread_part].solid
+
+        def in_cavity(q):
+            return (q[1] / (a - t)) ** 2 + (q[2] / (b - t)) ** 2 < 0.97
+
+        holes = [(lower, d, s.clearance_hole_mm / 2) for d in np.linspace(0.3, f.grip_mm - 0.3, 4)]
+        holes += [(lower, -d, s.counterbore_diameter_mm / 2) for d in np.linspace(0.3, f.recess_mm, 6)]
+        holes += [(upper, f.grip_mm + d, s.insert_hole_mm / 2) for d in (0.3, 1.5, 3.2)]
+        for solid, d, r in holes:
+            for q in _ring(f, d, r + 2 * lw - 0.05, 16):
+                assert _inside(solid, q) or not in_cavity(q), (f.label, d, q)
+        assert _inside(upper, f.point_mm(f.grip_mm + s.insert_pocket_depth_mm + 0.5))
+        n_checked += 1
+    assert n_checked == len([f for f in _seam_records("cap_screw") if f.link == 0]) > 0
+
+
+def test_seam_dowel_bores_are_one_cylinder_through_both_halves(hull_parts):
+    for f in _seam_records("dowel"):
+        d = float(f.size)
+        upper, lower = hull_parts[f.thread_part].solid, hull_parts[f.meta["slip_part"]].solid
+        for depth in np.linspace(0.3, f.length_mm - 0.3, 8):
+            q = f.point_mm(depth)
+            assert not _inside(upper, q) and not _inside(lower, q), (f.label, depth)
+        for half, depth in ((lower, 0.25 * f.length_mm), (upper, 0.75 * f.length_mm)):
+            assert all(_inside(half, q) for q in _ring(f, depth, d / 2 + 2 * P.print.line_width_mm - 0.05))
+        # blind at both ends
+        assert _inside(lower, f.point_mm(-1.2)) and _inside(upper, f.point_mm(f.length_mm + 1.2))
+
+
+def test_splice_screws_thread_into_the_front_pieces_tabs_under_the_rear_pieces_holes(hull_parts):
+    from swiftfin.layout.hull_plan import hull_fasteners
+    recs = [f for f in hull_fasteners(P) if "_splice_" in f.label]
+    n_cuts = sum(pc.rear_cut for pc in hull_pieces(P))
+    assert n_cuts == 1 and len(recs) == 4 * n_cuts
+    lw = P.print.line_width_mm
+    for f in recs:
+        s = f.screw
+        rear, front = hull_parts[f.head_part].solid, hull_parts[f.thread_part].solid
+        assert f.head_part.replace("rear", "front") == f.thread_part
+        for d in np.linspace(-1.0, f.grip_mm + s.insert_pocket_depth_mm - 0.1, 10):
+            q = f.point_mm(d)
+            assert not _inside(rear, q) and not _inside(front, q), (f.label, d)
+        assert all(_inside(rear, q) for q in _ring(f, 0.3, s.head_diameter_mm / 2))        # the head bears
+        assert all(_inside(rear, q) for q in _ring(f, f.grip_mm / 2, s.clearance_hole_mm / 2 + 2 * lw - 0.05))
+        need = max(2 * lw, s.insert_wall_min_mm)
+        for d in (f.grip_mm + 0.3, f.grip_mm + s.insert_length_mm - 0.3):
+            assert all(_inside(front, q) for q in _ring(f, d, s.insert_hole_mm / 2 + need - 0.05)), f.label
+        assert _inside(front, f.point_mm(f.grip_mm + s.insert_pocket_depth_mm + 0.5))       # blind
+        # the head sinks below the skin: the head's top face is inside the hull's outer section
+        a, b = hull_section_semi_axes_mm(P, -f.head_mm[0])
+        top = f.point_mm(-s.head_height_mm)
+        assert (top[1] / a) ** 2 + (top[2] / b) ** 2 < 1.0
+
+
+def test_the_old_ad_hoc_splice_and_fin_holes_are_gone():
+    import swiftfin.cad.hull as H
+    assert not hasattr(H, "_splice_screw") and not hasattr(H, "_splice_tab")
 
 
 # ----------------------------------------------------------------------------------------------- printer bed
