@@ -157,3 +157,14 @@ def test_fastener_masses_come_from_the_catalogue_and_sit_on_their_links(default_
     assert pms["fasteners_link_0"].inertial.mass_kg == pytest.approx(2 * one)
     # the COM halfway between the two screws' middles (x = 0 and -100 mm), 5 mm below their heads
     assert pms["fasteners_link_0"].inertial.com == pytest.approx([-0.05, 0.0, 0.005])
+
+
+def test_every_fastener_of_the_default_design_names_its_parts(default_params, default_parts):
+    """Labels are made by code: every record's parts exist (the build checks only fasteners whose parts it built)."""
+    from swiftfin.cad.fastening import all_fasteners
+    labels = {s.label for s in default_parts}
+    fs = all_fasteners(default_params)
+    assert fs
+    for f in fs:
+        named = {f.head_part, f.thread_part, f.meta.get("slip_part"), *f.meta.get("joins_parts", ())} - {None}
+        assert named <= labels, (f.label, named - labels)
