@@ -85,7 +85,25 @@ def tessellate(shape, tolerance_mm: float, angular_tolerance_deg: float) -> Mesh
         offset += n
     if not tris:
         raise ValueError("the shape has no faces to tessellate")
-    return weld(np.concatenate(verts), np.concatenate(tris))
+    pts = np.concatenate(verts)
+    lo, hi = _exact_box(topo)
+    # no point of the surface lies outside its exact bounding box: a mesh node there is the mesher's error (seen
+    # at a revolved nose's apex cut through its axis, 0.5 mm past the cut plane, which lifted the half off the bed)
+    pts = np.clip(pts, lo, hi)
+    return weld(pts, np.concatenate(tris))
+
+
+def _exact_box(topo) -> tuple[np.ndarray, np.ndarray]:
+    """The shape's bounding box from its geometry (not its triangulation) [mm]."""
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepBndLib import BRepBndLib
+
+    box = Bnd_Box()
+    BRepBndLib.AddOptimal_s(topo, box, False, False)
+    lo_p, hi_p = box.CornerMin(), box.CornerMax()
+    x0, y0, z0, x1, y1, z1 = lo_p.X(), lo_p.Y(), lo_p.Z(), hi_p.X(), hi_p.Y(), hi_p.Z()
+    gap = 1e-7
+    return np.array([x0 - gap, y0 - gap, z0 - gap]), np.array([x1 + gap, y1 + gap, z1 + gap])
 
 
 def weld(vertices: np.ndarray, faces: np.ndarray, decimals: int = 7) -> Mesh:

@@ -269,9 +269,13 @@ def _seam_range(p: Params, pc: HullPiece) -> tuple[float, float]:
     e = BOSS_OVERLAP_MM    # a boss reaches this far into a bulkhead (solids that overlap fuse cleanly; tangent ones
     #                        leave faces that touch along a line) and stays this far from a cut end
     lo = pc.s_start_mm + (t + r - e if pc.front_joint is not None else r + e)
+    if pc.front_cut:      # a station splice: its tabs and screws take SPLICE_LENGTH_MM on each side of the cut
+        lo = max(lo, pc.s_start_mm + SPLICE_LENGTH_MM + r + e)
     if pc.nose:
         lo = max(lo, nose_cap(p).s_cap_mm + r - e)
     hi = pc.s_end_mm - (t + r - e if pc.rear_joint is not None else r + e)
+    if pc.rear_cut:
+        hi = min(hi, pc.s_end_mm - SPLICE_LENGTH_MM - r - e)
     if pc.tail:
         hi = min(hi, pc.s_end_mm - p.caudal_fin.mount_length_mm - p.print.clearance_sliding_mm - t - r + e)
     if pc.rear_joint is not None:

@@ -28,7 +28,7 @@ def test_labels_masses_and_flags(bought):
         assert b.solid.is_valid and len(b.solid.solids()) == 1
     assert [b.mass_kg for b in bought[:n]] == [p.motor.mass_kg] * n
     assert [b.mass_kg for b in bought[n:]] == [c.mass_kg for c in p.components]
-    assert sum(b.mass_kg for b in bought) == pytest.approx(4 * 0.28 + 0.046 + 0.030 + 0.040)
+    assert sum(b.mass_kg for b in bought) == pytest.approx(4 * 0.28 + 0.046 + 0.030)   # screws: exports/line_masses
 
 
 def test_motor_volume_closed_form(bought):
