@@ -127,14 +127,21 @@ def test_a_damaged_entry_is_rebuilt(default_params, tmp_path):
 def test_recorded_keys_are_the_family_inputs(default_params, tmp_path):
     """The fin reads its own section and the print/export settings, and what the fastener plans read (the registry
     cuts every fastener's holes in every family's parts, so the layout the plans place them by is an input: a
-    motor that moves a seam screw may move a hole); never the water, the gait or the hydrodynamics."""
+    motor that moves a seam screw may move a hole). The gait enters only as the joints' stop angles (they set the
+    joint gaps and so the hull pieces the plans place screws in): exactly the swimming keys those angles read.
+    Never the water, the hydrodynamics, the rules or the power budget."""
+    import json
+    from swiftfin.layout.geometry import joint_stop_angles_rad
     cache = FamilyCache(tmp_path / "c")
     run_family("fin", default_params, cache)
-    import json
     (keysets,) = [json.loads(f.read_text()) for f in (tmp_path / "c" / "fin").glob("*/keysets.json")]
     keys = set(keysets[0])
     assert "caudal_fin.span_mm" in keys and "export.mesh_tolerance_mm" in keys
-    assert not any(k.startswith(("environment.", "swimming.", "hydro.", "rules.", "power.")) for k in keys)
+    assert not any(k.startswith(("environment.", "hydro.", "rules.", "power.")) for k in keys)
+    stop_reads: dict = {}
+    joint_stop_angles_rad(RecordingParams(default_params, stop_reads))
+    gait = {k for k in stop_reads if k.startswith("swimming.")}
+    assert gait and {k for k in keys if k.startswith("swimming.")} == gait
     assert isinstance(RecordingParams(default_params, {}), Params)
 
 
