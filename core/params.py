@@ -23,7 +23,10 @@ from dataclasses import dataclass, fields
 from pathlib import Path
 from typing import Any, Iterable
 
-from .schema import SECTIONS, Body, Component, Params
+from swiftfin.catalogues.cables import cable_params, cable_spec
+from swiftfin.catalogues.motors import motor_params
+
+from .schema import CUSTOM, SECTIONS, Body, Component, Params
 
 
 @dataclass(frozen=True)
@@ -169,6 +172,54 @@ def _build_section(cls, raw: Any, prefix: str, out: list[Problem], failed: set[s
         else:
             failed.add(f"{prefix}.{k}")
     return cls(**values)
+
+
+def _motor_entry(name: str) -> tuple[dict, tuple]:
+    return motor_params(name), ()
+
+
+def _cable_entry(name: str) -> tuple[dict, tuple]:
+    return cable_params(name), cable_spec(name).missing()
+
+
+CATALOGUE_SECTIONS = {"motor": _motor_entry, "cable": _cable_entry}
+"""Sections whose ``model`` key names a catalogue entry: section -> name -> (the keys it fills, the keys the rules
+read that it does not give)."""
+
+
+def _agrees(given: Any, entry: Any) -> bool:
+    if isinstance(entry, str) or isinstance(given, (str, bool)) or not isinstance(given, (int, float)):
+        return given == entry
+    return math.isclose(float(given), float(entry), rel_tol=1e-9, abs_tol=0.0)
+
+
+def _with_catalogue_entry(section: str, raw: dict, out: list[Problem], failed: set[str]) -> dict:
+    """The section's table with the keys its ``model`` fills (a name outside the catalogue is left for the schema's
+    choice check to report). A key given beside the model that differs from the entry's number, and a key the
+    rules read that the entry does not give and the file leaves out, are problems: never a silent choice
+    between two numbers."""
+    model = raw.get("model", CUSTOM)
+    if not isinstance(model, str) or model == CUSTOM or model not in SECTIONS[section].__dataclass_fields__[
+            "model"].metadata["choices"]:
+        return raw
+    entry, missing = CATALOGUE_SECTIONS[section](model)
+    merged = dict(raw)
+    for k, v in entry.items():
+        if k not in raw:
+            merged[k] = v
+        elif not _agrees(raw[k], v):
+            out.append(Problem(f"{section}.{k}", raw[k],
+                               f"{section}.model = {model!r} gives {_fmt(v)}: leave the key out to take the "
+                               f"entry's value, or set {section}.model = {CUSTOM!r} to give your own"))
+            failed.add(f"{section}.{k}")
+            del merged[k]
+    for k in missing:
+        if k not in raw:
+            out.append(Problem(f"{section}.{k}", _MISSING,
+                               f"{section}.model = {model!r} does not give it (the catalogue holds only the fibre "
+                               f"maker's figures): give the cable's own number (data sheet or pull test)"))
+            failed.add(f"{section}.{k}")
+    return merged
 
 
 COMPONENT_NAME_MAX = 40
@@ -355,6 +406,8 @@ def schema_check(raw: Any) -> SchemaResult:
             if len(out) > n_before:
                 failed.add("components")
         elif name in SECTIONS:
+            if name in CATALOGUE_SECTIONS and isinstance(value, dict):
+                value = _with_catalogue_entry(name, value, out, failed)
             kwargs[name] = _build_section(SECTIONS[name], value, name, out, failed)
         else:
             out.append(_top_level_problem(name, value, allowed))

@@ -15,8 +15,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
+from swiftfin.catalogues.cables import cable_names
 from swiftfin.catalogues.fasteners import dowel_diameters_mm, screw_diameters_mm
 from swiftfin.catalogues.materials import material_names
+from swiftfin.catalogues.motors import motor_names
 
 SCREWS = screw_diameters_mm()      # the thread sizes of catalogues/fasteners.toml (M2, M2.5, M3, M4)
 DOWELS = dowel_diameters_mm()      # the pin diameters of catalogues/pins.toml (ISO 8734)
@@ -33,6 +35,15 @@ def p(default: Any, lo: float | None = None, hi: float | None = None, doc: str =
 
 
 PAPER = "SwiftFin paper"
+
+CUSTOM = "custom"
+"""A section's ``model`` when it names no catalogue entry: every key from the file or its default."""
+
+
+def _model_doc(table: str, section: str) -> str:
+    return (f"A catalogue entry (catalogues/{table}) whose numbers fill the [{section}] keys this file leaves out; "
+            f"a key given beside it must equal the entry's ('{CUSTOM}': no entry, every key from the file or its "
+            f"default)")
 
 
 @dataclass(frozen=True)
@@ -108,6 +119,8 @@ class Joints:
 
 @dataclass(frozen=True)
 class Motor:
+    model: str = p(CUSTOM, doc=_model_doc("motors.toml", "motor"), source="catalogues/motors.toml (sources per number)",
+                   choices=(CUSTOM,) + motor_names())
     frame_size_mm: float = p(42.3, 20.0, 60.0, "Square frame size (NEMA 17 = 42.3 mm)", "NEMA ICS 16")
     body_length_mm: float = p(40.0, 15.0, 80.0, "Body length without shaft", "17HS4401 datasheet (40 mm)")
     shaft_diameter_mm: float = p(5.0, 2.0, 8.0, "Shaft diameter", "NEMA 17 (5 mm)")
@@ -159,6 +172,8 @@ class Spool:
 
 @dataclass(frozen=True)
 class Cable:
+    model: str = p(CUSTOM, doc=_model_doc("cables.toml", "cable"), source="catalogues/cables.toml (sources per number)",
+                   choices=(CUSTOM,) + cable_names())
     material: str = p("braided nylon", doc="Cable material", source=f"{PAPER} Table 2",
                       choices=("braided nylon", "dyneema", "vectran", "steel"))
     diameter_mm: float = p(1.0, 0.1, 5.0, "Cable diameter", f"{PAPER} Table 2 (1.0 mm)")
