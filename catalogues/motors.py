@@ -15,11 +15,14 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 
-#: The entry's fields a design's ``[motor]`` section takes under the same name. (``rated_current_a`` is the
-#: motor's rating, not the current a driver is set to hold, ``motor.phase_current_a``; ``gear_ratio`` has no
-#: schema key yet.)
+#: The entry's fields a design's ``[motor]`` section takes under the same name; ``rated_current_a`` fills
+#: ``motor.phase_current_a`` (:data:`RENAMED`): the schema defines the holding torque as the motor's at the current
+#: the driver holds, and a maker's holding torque is at the rated current, so a design naming a model holds that
+#: current (one that holds less gives its own, scaled numbers as ``model = "custom"``). ``gear_ratio`` has no
+#: schema key yet.
 PARAM_KEYS = ("frame_size_mm", "body_length_mm", "mass_kg", "rotor_inertia_kg_m2", "holding_torque_nm",
-              "phase_resistance_ohm", "full_step_deg")
+              "rated_current_a", "phase_resistance_ohm", "full_step_deg")
+RENAMED = {"rated_current_a": "phase_current_a"}
 
 
 @dataclass(frozen=True)
@@ -41,7 +44,7 @@ class StepperMotor:
 
     def params(self) -> dict[str, float]:
         """The ``[motor]`` keys this entry gives, with their values."""
-        return {k: getattr(self, k) for k in PARAM_KEYS if getattr(self, k) is not None}
+        return {RENAMED.get(k, k): getattr(self, k) for k in PARAM_KEYS if getattr(self, k) is not None}
 
 
 _NUMBERS = tuple(f.name for f in fields(StepperMotor) if f.name not in ("name", "maker", "sources"))

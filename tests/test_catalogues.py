@@ -19,9 +19,10 @@ def _meta(cls, name: str) -> dict:
 
 
 def test_every_number_has_a_source():
+    from swiftfin.catalogues.motors import PARAM_KEYS
     for m in motors():
-        for k in m.params():
-            assert m.sources.get(k), (m.name, k)
+        for k in PARAM_KEYS:
+            assert getattr(m, k) is None or m.sources.get(k), (m.name, k)
         assert m.maker
     for c in cables():
         for k in list(c.params()) + [f for f in ("fibre_tensile_modulus_gpa", "fibre_tenacity_n_tex",
@@ -53,9 +54,13 @@ def test_values_fit_the_schema_ranges():
 
 
 def test_the_default_design_is_the_17hs4401_on_braided_nylon():
+    """Every number of the entry but the current: the paper holds its 17HS4401 at 1.5 A, not the rated 1.7 A (and
+    still counts the rated 0.42 N m: see the README)."""
     p = Params()
     for k, v in motor_params("17HS4401").items():
-        assert getattr(p.motor, k) == pytest.approx(v), k
+        if k != "phase_current_a":
+            assert getattr(p.motor, k) == pytest.approx(v), k
+    assert motor_params("17HS4401")["phase_current_a"] == 1.7 and p.motor.phase_current_a == 1.5
     for k, v in cable_params("braided nylon 1 mm").items():
         assert getattr(p.cable, k) == v, k
 
