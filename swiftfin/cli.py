@@ -75,6 +75,17 @@ COMMANDS: dict[str, Command] = {
         "with --fit, a fit's before and after. Uses the build in DIR when it is of the same parameter file.",
         "swiftfin report --out build\n"
         "swiftfin report my_fish.toml --out my_build --fit fit_joint"),
+    "solve": Command(
+        "find the nearest design that passes every rule, and what each change buys",
+        "Searches the keys you name (ranges of numbers, catalogue motors and cables, materials) for the design "
+        "nearest to yours that passes every kernel-free design rule: fewest keys changed first, then the "
+        "smallest change, each change pulled back to the boundary of the rule that binds. Prints what each change "
+        "buys (the rules that fail when it alone is undone) and writes the design as a parameter file. Exit 0 "
+        "when a design passes, 1 when none does within the ranges (nothing written), 2 for bad input. Needs no "
+        "CAD kernel; build the result for the floating rules.",
+        "swiftfin solve                                   # the default levers, -> solved.toml\n"
+        "swiftfin solve my_fish.toml --vary cable.pretension_n=10:200 --vary motor.model=custom,23HS22-2804S\n"
+        "swiftfin solve --vary swimming.tail_beat_frequency_hz=0.5:3 --out slower.toml --json solve.json"),
     "params": Command(
         "validate a parameter file or print the documented defaults",
         "Validates a parameter file (every problem at once, each with its key, value and allowed range) or, with "

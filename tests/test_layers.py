@@ -2,7 +2,7 @@
 
 * import-linter (the contracts in pyproject.toml) on the package as installed (tests/package_tree.py);
 * no import cycle between modules, counting imports inside functions (grimp reads every import statement);
-* ``check``, ``audit``, ``params`` and ``fit`` never import the CAD kernel (build123d, OCP), and ``--help``
+* ``check``, ``audit``, ``params``, ``fit`` and ``solve`` never import the CAD kernel (build123d, OCP), and ``--help``
   imports no command's heavy dependencies;
 * the wheel's only top-level package is ``swiftfin``, it ships the default design, and the installed
   ``swiftfin check`` runs it from an empty folder (exit 1: the rules' verdict on the paper's design).
@@ -116,7 +116,8 @@ def _probe(args: list[str], cwd: Path) -> dict:
 
 
 @pytest.mark.parametrize("args", [["check"], ["audit"], ["params"], ["params", "--dump"],
-                                  ["check", str(DEFAULT_DESIGN), "--loads"]])
+                                  ["check", str(DEFAULT_DESIGN), "--loads"],
+                                  ["solve", "--vary", "cable.pretension_n=10:100", "--samples", "16"]])
 def test_kernel_free_commands_do_not_import_the_kernel(args, tmp_path):
     out = _probe(args, tmp_path)
     assert out["code"] in (0, 1)
@@ -127,6 +128,8 @@ def test_help_imports_no_heavy_dependency(tmp_path):
     out = _probe(["--help"], tmp_path)
     assert out["code"] == 0 and out["loaded"] == []
     out = _probe(["check", "--help"], tmp_path)
+    assert out["code"] == 0 and out["loaded"] == []
+    out = _probe(["solve", "--help"], tmp_path)
     assert out["code"] == 0 and out["loaded"] == []
 
 
@@ -142,7 +145,7 @@ def test_fit_does_not_import_the_kernel(tmp_path):
     assert not set(out["loaded"]) & set(KERNEL), out["loaded"]
 
 
-@pytest.mark.parametrize("command", ["build", "check", "audit", "fit", "synth", "report", "params"])
+@pytest.mark.parametrize("command", ["build", "check", "audit", "fit", "synth", "report", "params", "solve"])
 def test_every_command_has_a_description_and_an_example(command, capsys):
     from swiftfin.cli import main
 

@@ -1,0 +1,118 @@
+"""``swiftfin solve [PARAMS] [--vary KEY=RANGE ...] [--out FILE]``: the nearest design that passes every kernel-free
+rule, changing only the keys searched (:mod:`swiftfin.design_rules.synthesis`).
+
+Exit codes: 0 a passing design was found and written to ``--out``; 1 none passes within the ranges (nothing is
+written; the closest design found and the rules it still fails are printed); 2 bad input (the parameter file, a
+``--vary``, an ``--out`` that exists or cannot be written).
+"""
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from swiftfin.commands import DESIGN_HELP
+from swiftfin.core.errors import UserError
+from swiftfin.core.params import dump_toml
+from swiftfin.layout.design import load_design
+from swiftfin.outdir import check_output_file
+
+
+def configure(ap) -> None:
+    """Add this command's arguments to its parser (made by swiftfin.cli)."""
+    from swiftfin.design_rules.synthesis import DEFAULT_VARY
+    ap.add_argument("params_file", nargs="?", default=None, help=DESIGN_HELP)
+    ap.add_argument("--vary", action="append", default=[], metavar="KEY=LO:HI|KEY=A,B,C",
+                    help="a key to search, a range of numbers or a list of values (repeatable). Default: "
+                         + "; ".join(DEFAULT_VARY))
+    ap.add_argument("--out", default="solved.toml",
+                    help="parameter file to write the passing design to (default solved.toml; an existing file "
+                         "is never overwritten)")
+    ap.add_argument("--json", metavar="FILE", help="also write the result as JSON")
+    ap.add_argument("--seed", type=int, default=0, help="seed of the samples and the evolution (default 0)")
+    ap.add_argument("--samples", type=int, default=256, help="samples per searched key and stage (default 256)")
+    ap.set_defaults(func=run)
+
+
+def _fmt(v) -> str:
+    if isinstance(v, str):
+        return v
+    return f"{v:.4g}"
+
+
+def _margin(m: float) -> str:
+    return f"{100 * m:+.1f} %" if math.isfinite(m) else "-"
+
+
+def run(args) -> int:
+    from swiftfin.design_rules.synthesis import DEFAULT_VARY, parse_vary, solve
+    if args.samples < 8 or args.samples > 1 << 16:
+        raise UserError(f"--samples {args.samples}: expected 8 to 65536 samples per key")
+    base = load_design(args.params_file)
+    varies = [parse_vary(v) for v in (args.vary or DEFAULT_VARY)]
+    out = Path(args.out)
+    if out.exists():
+        raise UserError(f"--out {out}: exists; swiftfin solve never overwrites a file (give another name)")
+    check_output_file(out)
+    if args.json:
+        check_output_file(args.json, "--json")
+    t0 = time.perf_counter()
+    res = solve(base, varies, samples_per_key=args.samples, seed=args.seed,
+                progress=lambda text: print(f"  [{time.perf_counter() - t0:5.1f} s] {text}", file=sys.stderr))
+    wall = time.perf_counter() - t0
+    name = args.params_file or "the default design"
+    print(f"swiftfin solve: {name}, {len(varies)} key(s) searched, {res.evaluated} designs evaluated in {wall:.1f} s")
+    print(f"the design fails {len(res.base_failing)} rule(s): {', '.join(res.base_failing) or 'none'}")
+    print()
+    print("passes every kernel-free rule" if res.passes else
+          f"NO design within the ranges passes; the closest found still fails: {', '.join(res.failing)}")
+    print(f"{'change':38} {'from':>14} {'to':>14}  what it buys (fails when undone alone)")
+    for c in res.changes:
+        print(f"{c.key:38} {_fmt(c.before):>14} {_fmt(c.after):>14}  {', '.join(c.buys) or '-'}")
+    if res.binding:
+        print("binding: " + ", ".join(f"{r} {_margin(m)}" for r, m in res.binding))
+    for n in res.notes:
+        print(f"note: {n}")
+    if args.json:
+        _write(Path(args.json), json.dumps(_as_json(res, varies, wall), indent=2) + "\n")
+    if not res.passes:
+        print("\nnothing written: widen the ranges or search other keys (--vary)")
+        return 1
+    header = ["# Written by `swiftfin solve`: the nearest design passing every kernel-free rule.",
+              f"# From {name}; changed: " + "; ".join(f"{c.key} {_fmt(c.before)} -> {_fmt(c.after)}"
+                                                   for c in res.changes)]
+    header += [f"# Note: {n}" for n in res.notes]
+    header += ["# Build it and check the floating rules: swiftfin build THIS --out DIR, then",
+               "# swiftfin check THIS --mass-properties DIR/mass_properties.json", ""]
+    _write(out, "\n".join(header) + dump_toml(res.design))
+    print(f"\nwrote {out}")
+    return 0
+
+
+def _write(path: Path, text: str) -> None:
+    """Whole or not at all: a temporary file beside it, renamed into place; never over an existing file."""
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.absolute().parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        if path.exists():
+            raise UserError(f"{path}: appeared while solving; not overwritten")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _as_json(res, varies, wall: float) -> dict:
+    def num(v):
+        return v if isinstance(v, str) else float(v)
+    return {"passes": res.passes, "base_failing": list(res.base_failing), "failing": list(res.failing),
+            "changes": [{"key": c.key, "from": num(c.before), "to": num(c.after), "buys": list(c.buys)}
+                        for c in res.changes],
+            "binding": [{"rule": r, "margin": m} for r, m in res.binding], "notes": list(res.notes),
+            "searched": [v.text() for v in varies], "designs_evaluated": res.evaluated, "wall_s": wall}
