@@ -86,6 +86,16 @@ COMMANDS: dict[str, Command] = {
         "swiftfin solve                                   # the default levers, -> solved.toml\n"
         "swiftfin solve my_fish.toml --vary cable.pretension_n=10:200 --vary motor.model=custom,23HS22-2804S\n"
         "swiftfin solve --vary swimming.tail_beat_frequency_hz=0.5:3 --out slower.toml --json solve.json"),
+    "sweep": Command(
+        "run many designs as Dask tasks (a build each, or the rules) into one table",
+        "Runs every design named (parameter files, or folders of them) as a Dask task on a local cluster of one "
+        "process per core, or on an existing Dask cluster (--scheduler): a full build into its own folder with its "
+        "manifest, then every rule with that build's mass properties (or, --stage check, the kernel-free rules "
+        "alone). One row per design gathers in results.csv; a design that is refused or fails to build keeps its "
+        "row and message. A run that was stopped resumes: designs whose row matches their file are skipped.",
+        "swiftfin sweep designs/ --out sweep_out\n"
+        "swiftfin sweep a.toml b.toml --out sweep_out --stage check --workers 2\n"
+        "swiftfin sweep designs/ --out sweep_out --scheduler tcp://10.0.0.5:8786"),
     "params": Command(
         "validate a parameter file or print the documented defaults",
         "Validates a parameter file (every problem at once, each with its key, value and allowed range) or, with "

@@ -145,7 +145,7 @@ def test_fit_does_not_import_the_kernel(tmp_path):
     assert not set(out["loaded"]) & set(KERNEL), out["loaded"]
 
 
-@pytest.mark.parametrize("command", ["build", "check", "audit", "fit", "synth", "report", "params", "solve"])
+@pytest.mark.parametrize("command", ["build", "check", "audit", "fit", "synth", "report", "params", "solve", "sweep"])
 def test_every_command_has_a_description_and_an_example(command, capsys):
     from swiftfin.cli import main
 
