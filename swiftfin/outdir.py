@@ -234,3 +234,21 @@ def check_output_file(path, option: str = "--out") -> None:
         _probe_folder(parent, option, p)
     else:
         _make_and_remove(parent, option, p)
+
+
+def write_text_atomic(path, text: str, new_only: bool = False) -> None:
+    """Write ``text`` to ``path`` whole or not at all: a temporary file beside it (its folders made as needed),
+    renamed into place. ``new_only``: never over a file that exists (UserError, the file untouched)."""
+    path = Path(path)
+    path.absolute().parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.absolute().parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+        if new_only and path.exists():
+            raise UserError(f"{path}: appeared while it was being written; not overwritten")
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise

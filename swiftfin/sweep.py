@@ -27,13 +27,13 @@ import hashlib
 import io
 import json
 import os
-import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.params import ParamError
+from swiftfin.outdir import write_text_atomic
 
 STAGES = ("check", "build")
 COLUMNS = ("design", "params_file", "params_sha256", "stage", "status", "message", "verdict", "n_pass", "n_warn",
@@ -76,19 +76,6 @@ def _sha256(path: str) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def _write_atomic(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def run_design(path: str, name: str, out_root: str, stage: str, cache_dir: str | None = None) -> dict:
     """One design's row (see the module docstring), its result file written. Never raises for the design's own
     faults: they are its row's status and message."""
@@ -126,7 +113,7 @@ def run_design(path: str, name: str, out_root: str, stage: str, cache_dir: str |
     except Exception as exc:  # noqa: BLE001 - a task reports, it does not take the sweep down
         row.update(status="error", message=f"{type(exc).__name__}: {exc}")
     row["wall_s"] = round(time.perf_counter() - t0, 3)
-    _write_atomic(Path(out_root) / "results" / f"{name}.json", json.dumps(row, indent=1) + "\n")
+    write_text_atomic(Path(out_root) / "results" / f"{name}.json", json.dumps(row, indent=1) + "\n")
     return row
 
 
@@ -209,5 +196,5 @@ def sweep(items: list[SweepItem], out_root: str | Path, stage: str = "check", sc
             if cluster is not None:
                 cluster.close()
     ordered = [rows[it.name] for it in items]
-    _write_atomic(out_root / "results.csv", table_csv(ordered))
+    write_text_atomic(out_root / "results.csv", table_csv(ordered))
     return ordered, len(todo)

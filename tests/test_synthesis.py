@@ -130,6 +130,10 @@ def test_the_command_writes_only_a_passing_design_and_never_over_a_file(tmp_path
     check = subprocess.run([sys.executable, "-m", "swiftfin", "check", "s.toml"], capture_output=True, text=True,
                            cwd=tmp_path)
     assert check.returncode == 0, check.stdout[-2000:]
+    # into a folder that does not exist yet: made, the file written whole
+    r3 = _cli(str(design), "--vary", vary, "--out", "new/deeper/s.toml", cwd=tmp_path)
+    assert r3.returncode == 0 and "Traceback" not in r3.stderr
+    assert (tmp_path / "new" / "deeper" / "s.toml").read_bytes() == written
     # again into the same file: refused, the file untouched
     r2 = _cli(str(design), "--vary", vary, "--out", "s.toml", cwd=tmp_path)
     assert r2.returncode == 2 and "never overwrites" in r2.stderr and "Traceback" not in r2.stderr

@@ -9,9 +9,7 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -19,7 +17,7 @@ from swiftfin.commands import DESIGN_HELP
 from swiftfin.core.errors import UserError
 from swiftfin.core.params import dump_toml
 from swiftfin.layout.design import load_design
-from swiftfin.outdir import check_output_file
+from swiftfin.outdir import check_output_file, write_text_atomic
 
 
 def configure(ap) -> None:
@@ -78,7 +76,7 @@ def run(args) -> int:
     for n in res.notes:
         print(f"note: {n}")
     if args.json:
-        _write(Path(args.json), json.dumps(_as_json(res, varies, wall), indent=2) + "\n")
+        write_text_atomic(args.json, json.dumps(_as_json(res, varies, wall), indent=2) + "\n")
     if not res.passes:
         print("\nnothing written: widen the ranges or search other keys (--vary)")
         return 1
@@ -88,24 +86,9 @@ def run(args) -> int:
     header += [f"# Note: {n}" for n in res.notes]
     header += ["# Build it and check the floating rules: swiftfin build THIS --out DIR, then",
                "# swiftfin check THIS --mass-properties DIR/mass_properties.json", ""]
-    _write(out, "\n".join(header) + dump_toml(res.design))
+    write_text_atomic(out, "\n".join(header) + dump_toml(res.design), new_only=True)
     print(f"\nwrote {out}")
     return 0
-
-
-def _write(path: Path, text: str) -> None:
-    """Whole or not at all: a temporary file beside it, renamed into place; never over an existing file."""
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.absolute().parent)
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(text)
-        if path.exists():
-            raise UserError(f"{path}: appeared while solving; not overwritten")
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def _as_json(res, varies, wall: float) -> dict:
