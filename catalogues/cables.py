@@ -14,6 +14,8 @@ from dataclasses import dataclass, field, fields
 from functools import cache
 from pathlib import Path
 
+from swiftfin.catalogues.table import by_name, is_positive_number
+
 HERE = Path(__file__).resolve().parent
 
 #: The entry's fields a design's ``[cable]`` section takes under the same name. ``creep_allowance_fraction`` is
@@ -69,7 +71,7 @@ def cables() -> tuple[CableSpec, ...]:
             if k == "material":
                 kw[k] = str(v)
             elif k in _NUMBERS:
-                if isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0:
+                if not is_positive_number(v):
                     problems.append(f"[{name}] {k} = {v!r}: expected a positive number")
                 kw[k] = float(v) if isinstance(v, (int, float)) else v
             elif k in _RANGES:
@@ -96,10 +98,7 @@ def cable_names() -> tuple[str, ...]:
 
 
 def cable_spec(name: str) -> CableSpec:
-    for c in cables():
-        if c.name == name:
-            return c
-    raise KeyError(f"no cable {name!r} in catalogues/cables.toml (it holds {', '.join(cable_names())})")
+    return by_name(cables(), name, "cable", "cables.toml")
 
 
 def cable_params(name: str) -> dict:

@@ -6,6 +6,8 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
+from swiftfin.catalogues.table import by_name
+
 HERE = Path(__file__).resolve().parent
 
 
@@ -28,7 +30,4 @@ def material_names() -> tuple[str, ...]:
 
 
 def material(name: str) -> Material:
-    for m in materials():
-        if m.name == name:
-            return m
-    raise KeyError(f"no material {name!r} in catalogues/materials.toml (it holds {', '.join(material_names())})")
+    return by_name(materials(), name, "material", "materials.toml")

@@ -13,6 +13,8 @@ from dataclasses import dataclass, field, fields
 from functools import cache
 from pathlib import Path
 
+from swiftfin.catalogues.table import by_name, is_positive_number
+
 HERE = Path(__file__).resolve().parent
 
 #: The entry's fields a design's ``[motor]`` section takes under the same name; ``rated_current_a`` fills
@@ -63,7 +65,7 @@ def motors() -> tuple[StepperMotor, ...]:
         for k, v in row.items():
             if k not in _NUMBERS:
                 problems.append(f"[{name}] unknown field {k!r} (known: {', '.join(_NUMBERS)})")
-            elif isinstance(v, bool) or not isinstance(v, (int, float)) or not v > 0:
+            elif not is_positive_number(v):
                 problems.append(f"[{name}] {k} = {v!r}: expected a positive number")
             elif k not in sources:
                 problems.append(f"[{name}] {k} has no source in [{name}.sources]")
@@ -82,10 +84,7 @@ def motor_names() -> tuple[str, ...]:
 
 
 def motor(name: str) -> StepperMotor:
-    for m in motors():
-        if m.name == name:
-            return m
-    raise KeyError(f"no motor {name!r} in catalogues/motors.toml (it holds {', '.join(motor_names())})")
+    return by_name(motors(), name, "motor", "motors.toml")
 
 
 def motor_params(name: str) -> dict[str, float]:
