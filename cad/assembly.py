@@ -31,6 +31,13 @@ contacts; both are exact on the meshes, far faster than OCC booleans):
    exact up to the tolerance because the envelope is convex (NACA 00xx half-thickness is concave in x and the
    sections are ellipses scaled by it) so a mesh whose vertices are inside lies inside.
 
+**Cables and tubes** (:mod:`swiftfin.cad.cables`) take part like any other part: each cable piece and tube is a
+mesh rigid with its link (family "cable" / "tube"). A cable keeps :func:`cable_clearance_mm` (half the sliding
+clearance) from every part it is not declared to touch; its declared contacts (:data:`CONTACTS`) are its own
+spool, tube, tendon groove and anchor, and its own pieces where they meet; a tube touches its guide channel or
+bulkhead hole. ``check_assembly(..., focus=labels)`` checks only the pairs with one of ``labels`` (the cables
+against parts already checked among themselves).
+
 A failed check raises :class:`swiftfin.core.errors.BuildError` naming both parts, the joint angles and the
 measured gap or overlap.
 """
@@ -54,6 +61,25 @@ from swiftfin.core.schema import Params
 RESOLUTION_MM = 0.02        # clearance verified to within this everywhere in the range of motion
 MAX_BOXES_PER_PAIR = 20000
 EXACT_BELOW_MM = 4.0        # boxes whose motion bound exceeds this are split on the cheap bounding-box test alone  # branch-and-bound budget per pair (a guard against a pathological pair)
+
+CABLE_CLEARANCE_FRACTION = 0.5
+"""Gap a cable keeps from a part it is not meant to touch, as a fraction of ``print.clearance_sliding_mm``. A
+tensioned cable runs on the straight line between its guides, so its place has no print error of its own; the
+part's printed surface may stand out by half the sliding clearance (the sliding clearance is what two printed
+surfaces need), so the cable keeps that half. Engineering default (issue 12)."""
+
+
+def cable_clearance_mm(p: Params) -> float:
+    """Least gap between a cable and a part it is not meant to touch [mm] (see :data:`CABLE_CLEARANCE_FRACTION`)."""
+    return CABLE_CLEARANCE_FRACTION * p.print.clearance_sliding_mm
+
+
+def pair_clearance_mm(p: Params, a: "Placed", b: "Placed") -> tuple[float, str]:
+    """The gap a pair must keep and the name of its source: :func:`cable_clearance_mm` when either is a cable
+    (family "cable"), else ``print.clearance_assembly_mm``."""
+    if "cable" in (a.family, b.family):
+        return cable_clearance_mm(p), "the cable clearance"
+    return p.print.clearance_assembly_mm, "print.clearance_assembly_mm"
 
 
 @dataclass(frozen=True)
@@ -104,11 +130,34 @@ CONTACTS: tuple[Contact, ...] = (
     Contact(r"motor_mount_(?P<j>\d+)", r"motor_(?P<j>\d+)", "a motor's face is screwed to its mount plate, the "
             "pilot boss in the plate's hole (cad/mount.py)"),
     Contact(r"motor_mount_\d+", r"hull_.+", "mount tabs are screwed to the hull wall at "
-            "swiftfin.layout.geometry.mount_fixings_mm", link_delta=0),
+            "swiftfin.layout.mount_plan.mount_fixings_mm", link_delta=0),
     Contact(r"guide_exit_(?P<j>\d+)", r"motor_mount_(?P<j>\d+)", "an exit guide is screwed onto posts of its "
             "motor's mount (cad/guide.py)"),
     Contact(r"guide_bay", r"motor_mount_1", "the bay guide is screwed onto posts at the aft edge of motor_mount_1 "
             "(cad/guide.py)"),
+    Contact(r"spool_(?P<j>\d+)_upper", r"spool_(?P<j>\d+)", "the split spool's upper half sits on the lower half "
+            "at the cable plane, locked by the index screw (cad/spool.py)"),
+    Contact(r"spool_(?P<j>\d+)_upper", r"motor_(?P<j>\d+)", "the spool's upper half turns on its motor's shaft "
+            "(round bore, sliding clearance) (cad/spool.py)"),
+    # cables and tubes (cad/cables.py); every other pair with a cable keeps cable_clearance_mm
+    Contact(r"cable_(?P<j>\d+)_(?P<s>left|right)_.+", r"cable_(?P<j>\d+)_(?P<s>left|right)_.+", "pieces of one "
+            "cable meet end to end (on a hinge line, at the sector's tangent point, at the anchor)", link_delta=0),
+    Contact(r"cable_(?P<j>\d+)_(?P<s>left|right)_.+", r"cable_(?P<j>\d+)_(?P<s>left|right)_.+", "pieces of one "
+            "cable meet on the hinge line of the joint between their links", link_delta=1),
+    Contact(r"cable_(?P<j>\d+)_(left|right)_0", r"spool_(?P<j>\d+)(_upper)?", "a cable leaves its own spool's "
+            "groove tangent to the drum", link_delta=0),
+    Contact(r"cable_(?P<j>\d+)_(left|right)_\d+_(groove|anchor)", r"joint_link_(?P<j>\d+)", "a cable lies in its "
+            "own tendon sector's groove and anchor hole", link_delta=0),
+    Contact(r"cable_(?P<j>\d+)_(left|right)_\d+", r"joint_link_(?P<j>\d+)", "a cable leaves its own tendon "
+            "sector's groove tangent to it (the straight run on the link ahead)", link_delta=1),
+    Contact(r"cable_(?P<j>\d+)_(?P<s>left|right)_\d+(_\w+)?", r"tube_.+_(?P<j>\d+)_(?P<s>left|right)(_[a-z])?",
+            "a cable runs in its own PTFE tube (at a bend it rides on the bore's inner side)", link_delta=0),
+    Contact(r"tube_(?P<h>guide_(exit_\d+|bay))_\d+_(left|right)(_[a-z])?", r"(?P<h>guide_(exit_\d+|bay))",
+            "a PTFE tube sits in its guide channel (channel = tube OD + sliding clearance)", link_delta=0),
+    Contact(r"tube_(?P<h>hull_[a-z0-9_]+?)_\d+_(left|right)(_[a-z])?", r"(?P<h>hull_[a-z0-9_]+?)(_upper|_lower)?",
+            "a PTFE tube sits in its bulkhead hole (hole = tube OD + 2 sliding clearance)", link_delta=0),
+    Contact(r"tube_hull_[a-z0-9_]+?_\d+_(left|right)(_[a-z])?", r"joint_link_\d+", "a tube's end meets the flange of "
+            "the link bolted on its bulkhead, whose pass-through hole continues the bulkhead's", link_delta=0),
 )
 
 
@@ -236,6 +285,7 @@ class Clash:
     value_mm: float      # gap (clearance), overlap volume mm^3 (interference), distance outside (hull)
     limit: float
     where_mm: tuple | None = None   # (x, y, z) or, for an overlap, (x, y, z, dx, dy, dz, volume_mm3)
+    limit_name: str = "print.clearance_assembly_mm"
 
     def __str__(self) -> str:
         at = _fmt_angles(self.angles_rad)
@@ -249,9 +299,9 @@ class Clash:
             return (f"{self.a} and {self.b} interfere {at}: overlap {self.where_mm[6]:.1f} mm^3{loc}")
         if self.kind == "clearance" and self.value_mm == 0.0:
             return (f"{self.a} and {self.b} touch {at} (gap 0, no measurable overlap; they need "
-                    f"print.clearance_assembly_mm {self.limit:g} mm or a declared contact){loc}")
+                    f"{self.limit_name} {self.limit:g} mm or a declared contact){loc}")
         if self.kind == "clearance":
-            return (f"{self.a} and {self.b}: gap {self.value_mm:.3f} mm < print.clearance_assembly_mm "
+            return (f"{self.a} and {self.b}: gap {self.value_mm:.3f} mm < {self.limit_name} "
                     f"{self.limit:g} mm {at}{loc}")
         if self.kind == "interference":
             return (f"{self.a} and {self.b} interfere {at}: overlap {self.value_mm:.3f} mm^3 (allowed "
@@ -260,8 +310,8 @@ class Clash:
 
 
 # --------------------------------------------------------------------------------------------- checks
-def _pair_clearance(p: Params, A: Placed, B: Placed, need: float, boxes_budget: int = MAX_BOXES_PER_PAIR
-                    ) -> Clash | None:
+def _pair_clearance(p: Params, A: Placed, B: Placed, need: float, boxes_budget: int = MAX_BOXES_PER_PAIR,
+                    limit_name: str = "print.clearance_assembly_mm") -> Clash | None:
     """Branch and bound over the joints between A and B (A on the link ahead). None if clear."""
     if A.link > B.link:
         A, B = B, A
@@ -273,8 +323,11 @@ def _pair_clearance(p: Params, A: Placed, B: Placed, need: float, boxes_budget: 
         if _aabb_gap(a_lo, a_hi, b_lo, b_hi) >= need:
             return None
         g = A.manifold.min_gap(B.manifold, need)
-        return None if g >= need else Clash(A.label, B.label, {}, "clearance", g, need, _near(A, B, {}, p))
+        return None if g >= need else Clash(A.label, B.label, {}, "clearance", g, need, _near(A, B, {}, p),
+                                            limit_name)
     D = _axis_distance_bounds(p, B, joints[0], joints[-1])
+    b_lo, b_hi = B.vertices.min(axis=0), B.vertices.max(axis=0)
+    corners = np.array([[x, y, z] for x in (b_lo[0], b_hi[0]) for y in (b_lo[1], b_hi[1]) for z in (b_lo[2], b_hi[2])])
     stack = [tuple((-stops[j - 1], stops[j - 1]) for j in joints)]
     n_boxes = 0
     while stack:
@@ -287,6 +340,9 @@ def _pair_clearance(p: Params, A: Placed, B: Placed, need: float, boxes_budget: 
         half = {j: (hi - lo) / 2 for j, (lo, hi) in zip(joints, box)}
         delta = sum(D[j] * half[j] for j in joints)
         m = chain_transform(p, joints[0], joints[-1], centre)
+        cb = corners @ m[:3, :3].T + m[:3, 3]   # B's box moved: holds B, so a gap from it is a lower bound
+        if _aabb_gap(a_lo, a_hi, cb.min(axis=0), cb.max(axis=0)) >= need + delta:
+            continue
         vb = B.vertices @ m[:3, :3].T + m[:3, 3]
         if _aabb_gap(a_lo, a_hi, vb.min(axis=0), vb.max(axis=0)) >= need + delta:
             continue
@@ -297,7 +353,7 @@ def _pair_clearance(p: Params, A: Placed, B: Placed, need: float, boxes_budget: 
             if g >= need + delta:
                 continue
         if g is not None and g < need:
-            return Clash(A.label, B.label, centre, "clearance", g, need, _near(A, B, centre, p))
+            return Clash(A.label, B.label, centre, "clearance", g, need, _near(A, B, centre, p), limit_name)
         if g is not None and delta <= RESOLUTION_MM:
             continue  # gap >= need at the centre and nothing moves more than the resolution in the box
         k = max(joints, key=lambda j: D[j] * half[j])
@@ -412,18 +468,23 @@ class PassedPairs:
 
 
 def check_assembly(p: Params, parts: list[Placed], contacts: Iterable[Contact] = CONTACTS,
-                   progress=None, inside_hull: bool = True, passed: PassedPairs | None = None) -> dict:
+                   progress=None, inside_hull: bool = True, passed: PassedPairs | None = None,
+                   focus: Iterable[str] | None = None) -> dict:
     """Run every check; raise BuildError listing every failure. Returns counts for the build summary.
 
     ``inside_hull=False`` skips check 3 (for parts checked against one another only); ``passed`` is a memo
-    of pairs already known to pass (swiftfin/cache.py keeps one per cache folder)."""
+    of pairs already known to pass (swiftfin/cache.py keeps one per cache folder); ``focus`` (labels), if given,
+    limits the checks to the pairs with at least one of these parts, and check 3 to them (e.g. the cables and
+    tubes of :func:`swiftfin.cad.cables.cable_parts` against parts already checked among themselves)."""
     contacts = tuple(contacts)
-    need = p.print.clearance_assembly_mm
     tol = p.export.mesh_tolerance_mm
     failures: list[Clash] = []
     stats = {"pairs": 0, "contact_pairs": 0, "inside_checked": 0, "pairs_remembered": 0}
+    focus = None if focus is None else set(focus)
     for part in parts:
         if not inside_hull or part.family in INTERNAL_EXCLUDED_FAMILIES:
+            continue
+        if focus is not None and part.label not in focus:
             continue
         stats["inside_checked"] += 1
         ex = inner_envelope_excess_mm(p, part.vertices)
@@ -433,6 +494,8 @@ def check_assembly(p: Params, parts: list[Placed], contacts: Iterable[Contact] =
                                   tuple(float(c) for c in part.vertices[i])))
     for i, A in enumerate(parts):
         for B in parts[i + 1:]:
+            if focus is not None and A.label not in focus and B.label not in focus:
+                continue
             reason = contact_reason(A, B, contacts, p)
             stats["pairs" if reason is None else "contact_pairs"] += 1
             key = _pair_key(p, A, B, reason) if passed is not None else None
@@ -440,7 +503,8 @@ def check_assembly(p: Params, parts: list[Placed], contacts: Iterable[Contact] =
                 stats["pairs_remembered"] += 1
                 continue
             if reason is None:
-                clash = _pair_clearance(p, A, B, need)
+                need, name = pair_clearance_mm(p, A, B)
+                clash = _pair_clearance(p, A, B, need, limit_name=name)
             else:
                 clash = _pair_contact(p, A, B, tol, p.print.clearance_sliding_mm)
             if clash is None and key is not None:

@@ -26,6 +26,9 @@ from swiftfin.layout.fastening import Fastener, check_unique
 FASTENER_PLANS: dict[str, str] = {}
 """Part family -> ``"module:function"``, each ``function(params) -> tuple[Fastener, ...]``."""
 FASTENER_PLANS.update(hull="swiftfin.layout.hull_plan:hull_fasteners", fin="swiftfin.layout.fin_plan:fin_fasteners")
+FASTENER_PLANS.update(spool="swiftfin.cad.spool:spool_fasteners")
+FASTENER_PLANS.update(link="swiftfin.layout.link_plan:link_fasteners")
+FASTENER_PLANS.update(mount="swiftfin.cad.mount:mount_fasteners", guide="swiftfin.cad.guide:guide_fasteners")
 
 OVERCUT_MM = 0.5
 """Cutters run this far past the faces they open, so no zero-thickness skin is left."""
@@ -107,6 +110,8 @@ def seat_cutters(f: Fastener, open_mm: float = 0.0) -> list[bd.Solid]:
         out.append(_hex_prism(f.point_mm(f.grip_mm), a, s.nut_trap_width_mm, s.nut_trap_depth_mm + open_mm))
     elif f.seat == "self_tap":
         out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.pilot_hole_mm / 2, past + 1.0 + OVERCUT_MM))
+    elif f.seat == "tapped":
+        pass             # a bought part's own tapped hole: nothing to cut
     else:
         raise BuildError(f"{f.label}: seat {f.seat!r} has no cutter for a {f.kind}")
     return out

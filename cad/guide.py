@@ -5,10 +5,17 @@ Numbers first (:func:`guide_blocks`: channel paths, block extents, screw points)
 * ``guide_exit_<j>`` (motor j >= 2): between spool j and the spool behind it; holds both of motor j's cables
   through their exit bends into their lanes, and lets the lanes of the motors ahead pass straight through.
   Screwed from above onto two posts of ``motor_mount_<j>`` (cad/mount.py builds the posts at
-  :attr:`GuideBlock.screw_points_mm`).
+  :attr:`GuideBlock.screw_points_mm`, :func:`post_radius_mm` across).
 * ``guide_bay``: behind the motor row; every cable's bay bend. Screwed onto posts at the aft edge of
   ``motor_mount_1``'s plate; notched over the plate, it hangs down behind the motor as far as the descending
   channels need, and prints upside down (its top is the one flat face).
+
+Screws (:func:`guide_fasteners`, registered in ``cad/fastening.py``): ``guides.screw_diameter_mm`` cap screws
+driven down from the guide's top into brass heat-set inserts in the tops of the mount's posts (the post holds the
+insert maker's wall round it). The head sits on the guide's top when the shortest screw that fills the insert is
+one the post can take; otherwise (the tall bay guide) it sinks in a shallow counterbore just deep enough for the
+longest catalogue length to fill the insert exactly (a deeper one would open into the channels below). The key
+comes from above, before the upper hull half goes on.
 
 Each bent channel follows the route: straight in along the incoming segment, an arc of radius
 ``guides.min_bend_radius_mm`` through the route's bend angle in the plane of the two segments (tangent to
@@ -25,14 +32,19 @@ from dataclasses import dataclass
 import numpy as np
 from swiftfin.cad.kernel import Edge, Face, Plane, Solid, Transition, Wire
 
+from swiftfin.catalogues.fasteners import fastener
+from swiftfin.layout.fastening import Fastener
 from swiftfin.layout.geometry import cable_routes, half_height_mm, motor_placements, naca_half_width_mm, spool_dims
+from swiftfin.layout.mount_plan import BOSS_MARGIN_MM, motor_screw_fit
 from swiftfin.cad.part import PartSpec
-from swiftfin.core.errors import UserError
+from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
 
-POST_RADIUS_FACTOR = 1.5
-"""Post (and screw boss) radius / guide screw diameter [-]: 3 d across, ~2 line widths of wall around a
-pilot hole at 0.85 d. Engineering default."""
+
+def post_radius_mm(p: Params) -> float:
+    """Radius of a guide post on a mount: the insert boss rule (insert hole plus the larger of two lines and the
+    insert maker's wall, ``catalogues/fasteners.toml``) and the margin."""
+    return fastener(p.guides.screw_diameter_mm).insert_boss_od_mm(p.print.line_width_mm) / 2 + BOSS_MARGIN_MM
 
 
 @dataclass(frozen=True)
@@ -91,8 +103,8 @@ def assembly_gap_mm(p: Params) -> float:
 
 
 def screw_hole_diameter_mm(p: Params) -> float:
-    """Clearance hole for the guide screws (a free fit)."""
-    return p.guides.screw_diameter_mm + 2 * p.print.clearance_sliding_mm
+    """Clearance hole for the guide screws (ISO 273 medium, ``catalogues/fasteners.toml``)."""
+    return fastener(p.guides.screw_diameter_mm).clearance_hole_mm
 
 
 def _unit(v):
@@ -179,7 +191,7 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     r_ch = dia / 2
     motors = motor_placements(p)
     routes = cable_routes(p)
-    post_r = POST_RADIUS_FACTOR * g.screw_diameter_mm
+    post_r = post_radius_mm(p)
     reach = 4 * R + 100.0
     blocks = []
     # ---- exit guides: from the spool behind's axis to this spool's axis, less both spools' envelopes
@@ -241,8 +253,8 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     hole_r = screw_hole_diameter_mm(p) / 2
     plate_top = rear.z_face_mm + d.plate_mm
     x_post = rear.x_mm - F / 2 + post_r
-    # between the rear motor's own two cables (they leave the drum at y = +/- its radius)
-    y_post = min(p.motor.hole_spacing_mm / 4, d.drum_radius_mm - r_ch - hole_r - pr.line_width_mm)
+    # between the rear motor's own two cables (they leave the drum at y = +/- its radius), two lines of wall from each
+    y_post = min(p.motor.hole_spacing_mm / 4, d.drum_radius_mm - r_ch - hole_r - 2 * pr.line_width_mm)
     screws = ((x_post, y_post), (x_post, -y_post)) if y_post >= post_r else ((x_post, 0.0),)
     x_hi = min(rear.x_mm, x_post + post_r + wall)
     env_r = d.flange_radius_mm + c
@@ -268,8 +280,9 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     samples = samples[(samples[:, 0] >= x_lo) & (samples[:, 0] <= x_hi)]
     y_half = float(np.max(np.abs(samples[:, 1]))) + r_ch + wall
     zr = (float(np.min(samples[:, 2])) - r_ch - wall, float(np.max(samples[:, 2])) + r_ch + wall)
-    # the seat on the posts: above the plate and the motor screws' heads (socket head height ~ d)
-    seat = plate_top + p.motor.mount_screw_diameter_mm + c
+    # the seat on the posts: above the plate and the motor screws' heads (on their spot faces)
+    fit = motor_screw_fit(p)
+    seat = plate_top + fit.spot_face_mm + fit.head_height_mm + c
     notch_x = min(rear.x_mm - F / 2, x_post - post_r - wall) - c   # the plate's aft edge (cad/mount.py)
     over_plate = samples[samples[:, 0] >= notch_x - r_ch]
     if len(over_plate) and float(over_plate[:, 2].min()) - r_ch - wall < seat:
@@ -309,10 +322,7 @@ def guide_solid(b: GuideBlock) -> Solid:
     if b.notch_mm is not None:
         nx, nz = b.notch_mm
         cutters.append(Solid.make_box(x1 - nx + 1, y1 - y0 + 2, nz - z0 + 1).translate((nx, y0 - 1, z0 - 1)))
-    hole_r = b.screw_hole_diameter_mm / 2
-    for x, y in b.screw_points_mm:
-        cutters.append(Solid.make_cylinder(hole_r, z1 - z0 + 2, Plane(origin=(x, y, z0 - 1))))
-    body = body.cut(*cutters)
+    body = body.cut(*cutters)       # the screw holes come from guide_fasteners (cut by the registry)
     solids = body.solids()
     if len(solids) != 1:
         raise UserError(f"{b.label}: the guide falls apart into {len(solids)} pieces around the channels and "
@@ -331,3 +341,39 @@ def make_guides(p: Params) -> list[PartSpec]:
                                   "bends_deg": [round(math.degrees(ch.angle_rad), 3) for ch in b.channels
                                                 if ch.angle_rad > 0]}))
     return out
+
+
+def guide_screw_fit(p: Params, b: GuideBlock, post_height_mm: float) -> tuple[float, float, float]:
+    """(length, grip, recess) of ``b``'s screws: head on the top when the shortest screw that fills the insert leaves
+    the post's floor under its tip, else the longest catalogue length, its thread ending at the insert's end and its
+    head sunk as far as that needs."""
+    s = fastener(b.screw_diameter_mm)
+    floor = p.print.top_layers * p.print.layer_height_mm
+    grip_max = b.z_mm[1] - b.seat_mm
+    length = s.length_for(grip_max + s.insert_length_mm)
+    if length is not None and length - grip_max <= post_height_mm - floor + 1e-9:
+        return length, grip_max, 0.0
+    length = s.length_at_most(grip_max + s.insert_length_mm)
+    if length is None or length - s.insert_length_mm < 2 * p.print.line_width_mm:
+        raise BuildError(f"{b.label}: no {s.name} length fits its {grip_max:.1f} mm tall block and its posts "
+                         f"({post_height_mm:.1f} mm)")
+    grip = length - s.insert_length_mm
+    return length, grip, grip_max - grip
+
+
+def guide_fasteners(p: Params) -> tuple[Fastener, ...]:
+    """Every guide's screws: down from its top into inserts in its mount's posts (see the module docstring)."""
+    from swiftfin.layout.hull_plan import hull_pieces, part_label
+    pieces = hull_pieces(p)
+    z_face = {f"motor_mount_{mp.joint + 1}": mp.z_face_mm for mp in motor_placements(p)}
+    out = []
+    for b in guide_blocks(p):
+        s = fastener(b.screw_diameter_mm)
+        length, grip, recess = guide_screw_fit(p, b, b.seat_mm - z_face[b.mount])
+        for i, (x, y) in enumerate(b.screw_points_mm):
+            pc = next(q for q in pieces if q.s_start_mm <= -x <= q.s_end_mm)
+            out.append(Fastener(f"{b.label}_screw_{i + 1}", s.name, "cap_screw", "insert", (x, y, b.seat_mm + grip),
+                                (0.0, 0.0, -1.0), length, grip, b.label, b.mount,
+                                f"holds {b.label} on the posts of {b.mount}", 0, recess_mm=recess,
+                                installed_after=(part_label(p, pc, "upper"),)))
+    return tuple(out)

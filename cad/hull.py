@@ -24,8 +24,8 @@ Interpretations (body frame of :mod:`swiftfin.layout.geometry`, mm):
   The child's front bulkhead carries the link's four bolt holes.
 * **Cable passages**: a hole of PTFE tube OD + 2 sliding clearance, along the route, wherever a route of
   :func:`swiftfin.layout.geometry.cable_routes` crosses the mid-plane of a bulkhead.
-* **Mount fixings**: clearance holes (hull screw + 2 sliding clearance) along the normal through the wall at
-  :func:`swiftfin.layout.geometry.mount_fixings_mm`.
+* **Mount fixings**: a pad (local inward thickening of the wall) under each of the motor mounts' wall screws
+  (:func:`swiftfin.layout.mount_plan.wall_fixings`); the screws' holes and counterbores are cut by the registry.
 * **Caudal fin**: the peduncle ends in a solid plug with a socket for the fin's root tang
   (:func:`cad.fin.tang_dims_mm`): the tang plus ``caudal_fin.root_fit_clearance_mm`` on each side. The screws that
   draw the tang onto the socket's +y face are fastener records (:func:`swiftfin.layout.fin_plan.fin_fasteners`);
@@ -54,7 +54,7 @@ import numpy as np
 from swiftfin.layout import geometry as L
 from swiftfin.cad.kernel import bd
 from swiftfin.layout.fin_plan import tang_dims_mm
-from swiftfin.cad.clevis import clevis_add, clevis_bores, clevis_cut
+from swiftfin.cad.clevis import clevis_add, clevis_cut
 from swiftfin.cad.link import JointHardware, all_joint_hardware, box, isect, one_solid, rod
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.schema import Params
@@ -154,20 +154,15 @@ def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
     return out
 
 
-def _bolt_holes(h: JointHardware, p: Params) -> list[bd.Solid]:
-    x0 = h.x_mm - h.gap_half_mm + 1.0
-    return [rod((x0, y, z), (-1, 0, 0), h.bolt_hole_diameter_mm / 2, p.hull.bulkhead_thickness_mm + 2.0)
-            for y, z in h.bolt_points_yz_mm]
-
-
-def _fixing_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
-    r = p.hull.screw_diameter_mm / 2 + p.print.clearance_sliding_mm
-    t = p.hull.wall_thickness_mm
+def _fixing_pads(p: Params, pc: HullPiece) -> list[bd.Solid]:
+    """The pads (local inward thickenings of the wall) under the motor mounts' wall screws; their holes and
+    counterbores come from the screws' records (:func:`swiftfin.layout.mount_plan.wall_fixings`)."""
+    from swiftfin.layout.mount_plan import wall_fixings
     out = []
-    for f in L.mount_fixings_mm(p):
+    for f in wall_fixings(p):
         if pc.s_start_mm < -f.point_mm[0] < pc.s_end_mm:
-            start = np.asarray(f.point_mm) - np.asarray(f.normal) * 1.0
-            out.append(rod(tuple(start), f.normal, r, 3 * t + 4.0))
+            start = np.asarray(f.point_mm) - np.asarray(f.normal) * f.pad_mm
+            out.append(rod(tuple(start), f.normal, f.pad_radius_mm, f.pad_mm + f.skin_mm / 2))
     return out
 
 
@@ -266,18 +261,15 @@ def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
         h = hw[pc.rear_joint]
         body = body.cut(*clevis_cut(h, p))
         adds += clevis_add(h, p)
-        cuts += clevis_bores(h)
-    if pc.front_joint is not None:
-        cuts += _bolt_holes(hw[pc.front_joint], p)
     if pc.rear_cut:
         adds += _splice_tabs(p, pc)
     if pc.front_cut:
         front = next(q for q in hull_pieces(p) if q.rear_cut and abs(q.s_end_mm - pc.s_start_mm) < 1e-9)
         adds += _splice_pads(p, pc, front)
-    adds += _seam_bosses(p, pc, outer)
+    adds += _seam_bosses(p, pc, outer) + _fixing_pads(p, pc)
     if adds:
         body = body.fuse(*adds).clean()
-    cuts += _cable_holes(p, pc) + _fixing_holes(p, pc) + _vent_holes(p, pc)
+    cuts += _cable_holes(p, pc) + _vent_holes(p, pc)
     if pc.tail:
         cuts += _tail_features(p, pc)
     if cuts:

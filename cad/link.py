@@ -17,11 +17,20 @@ plane are measured about the joint axis from +x (forward) toward +y):
   [lowest level - hole radius - web, own lower level - P/2], the sector the next 2P. P is one pass-through hole
   plus a web of two line widths (:func:`swiftfin.layout.geometry.tendon_level_pitch_mm`); the window's floor and the blind pin
   bores' ends keep the same web from the nearest hole, so no skin thinner than two perimeters is left.
-* **Hinge**: the cables cross the hinge line *on* the axis, so the pin cannot run through. There are two
-  short pins (steel dowels of ``joints.pin_diameter_mm``): one through the parent's lower lug into the
-  lower knuckle, one through the parent's upper lug into the sector, which is the link's upper knuckle.
-  Bores are ``pin_diameter_mm + 2 clearance_sliding_mm`` in both parts (the pin is glued or pressed into
-  one of them on assembly). Axial clearance between lugs and link: ``print.clearance_sliding_mm``.
+* **Hinge** (fastener records of :func:`swiftfin.layout.link_plan.link_fasteners`; holes cut by the registry): the
+  cables cross the hinge line *on* the axis, so no pin can run through. Two short ISO 8734 dowels
+  (``joints.pin_diameter_mm``): one from the parent's lower lug up into the lower knuckle, one from the upper lug
+  down into the sector (the link's upper knuckle). Each pin is pressed into the link's blind bore (printed
+  ``ream_stock_mm`` under the pin, not reamed: a 0.15 mm press) and turns in its lug's bore, printed under size
+  too and reamed to H7 (radial play ``dowel(d).radial_play_mm()``, a few microns). **Alignment**: the link's two
+  bores are in one part, both vertical as it prints, so every layer puts them at the same x-y: coaxial to the
+  printer's repeatability. The lugs' two bores are in the parent's upper and lower halves: both are *through*
+  bores (the insert pockets beyond them are wider than the pin), so with the halves joined on the seam's dowels and
+  no link in, one reamer passes both in one pass; the dowels put the halves back on the same line after the link
+  is in. **Retention**: a set screw in a heat-set insert in a boss on each lug's outer face closes the bore just
+  beyond the pin's end; the pin cannot leave the link, the link cannot leave the lugs. Bores are vertical in the
+  print orientation of every part (link upside down; halves cut face down), so no support inside a bore.
+  Axial clearance between lugs and link: ``print.clearance_sliding_mm``.
 * **Tendon sector**: a disc of radius ``R_s`` round the axis, cut away in front of the first angle the
   grooves need. Each cable's groove is a partial torus whose section (radius r_g = cable/2 + sliding
   clearance/2) has its root at ``m - cable/2``, so a seated cable's centre line runs at the moment arm
@@ -29,15 +38,20 @@ plane are measured about the joint axis from +x (forward) toward +y):
   route (:func:`swiftfin.layout.geometry.cable_routes`, last point) minus the stop angle minus 5 deg and wraps backward to
   the anchor at tangent + stop + 15 deg (clipped so it stays ahead of the child's bulkhead), where a radial
   hole leads the cable end to a vertical anchor hole (knot or crimp).
-* **Pass-through holes**: for the cables of the joints behind, at their levels on the hinge line: straight
-  holes (PTFE tube OD + 2 sliding clearance) along -x behind the axis (fixed in the child's frame), and a
-  horizontal wedge ahead of the axis that opens by the stop angle + 2 deg to each side, because the
-  incoming cable is fixed in the parent's frame.
+* **Pass-through holes** (PTFE tube OD + 2 sliding clearance) follow the cables of the joints behind
+  (:func:`swiftfin.layout.joints.cable_crossings`): behind the axis a straight hole along the route's next segment
+  (fixed in the link: toward the next hinge line or the next sector's tangent point, up to 24 deg off the body
+  axis); ahead of it a fan of holes along the route's previous segment turned by every angle within the stop
+  angle + 2 deg (that segment is fixed in the parent), one revolved solid (:func:`fan_cutter`). The arm is widened so the angled holes keep two perimeters
+  to its sides; there is no window column ahead of the axis.
 * **Hard stops**: a tongue of half-angle ``beta`` pointing forward on the lower knuckle; the parent carries
   two blocks on its lower lug whose radial faces lie at +/- (beta + theta_stop). The tongue's faces meet
   them when the joint reaches +/- ``swiftfin.layout.geometry.joint_stop_angles_rad(p)[j-1]``.
-* **Flange**: a plate on the front face of the child's front bulkhead, with four bolt holes (hull screws,
-  ``hull.screw_diameter_mm``); the link is trimmed at that face, so nothing of it enters the child.
+* **Flange**: a plate on the front face of the child's front bulkhead, held by four cap screws whose heads sit
+  on its front face and whose threads go into heat-set inserts in the bulkhead (driven before the link goes into
+  its parent's lugs: the tail is assembled from the peduncle forward). The rows sit where a driver's path runs
+  clear of the link's own sector, at least the parent's stop-block radius from the axis, and the plate is cut away
+  round the axis where the parent's lugs and blocks sweep; the link is trimmed at the bulkhead's face.
 """
 from __future__ import annotations
 
@@ -52,8 +66,9 @@ from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
 
 from swiftfin.layout.joints import (  # noqa: F401  the numbers, re-exported for the part family
-    BLOCK_SPAN_DEG, FLARE_EXTRA_DEG, GROOVE_LEAD_DEG, MIN_WRAP_MARGIN_DEG, TONGUE_HALF_DEG, WRAP_MARGIN_DEG,
-    JointHardware, all_joint_hardware, joint_hardware, joint_link_problems)
+    BLOCK_SPAN_DEG, FLARE_EXTRA_DEG, GROOVE_LEAD_DEG, MIN_WRAP_MARGIN_DEG, TONGUE_HALF_DEG,
+    WRAP_MARGIN_DEG, CableCrossing, JointHardware, all_joint_hardware, joint_hardware, joint_link_problems)
+from swiftfin.layout.link_plan import link_fasteners  # noqa: F401
 
 
 # ----------------------------------------------------------------------------------------------- solid helpers
@@ -99,10 +114,79 @@ def one_solid(shape, label: str) -> bd.Solid:
 
 
 # ----------------------------------------------------------------------------------------------- solids
+def turned(v, deg: float) -> tuple[float, float, float]:
+    """Vector ``v`` turned by ``deg`` about +z."""
+    c, s = math.cos(math.radians(deg)), math.sin(math.radians(deg))
+    return (c * v[0] - s * v[1], s * v[0] + c * v[1], v[2])
+
+
+def fan_half_deg(h: JointHardware) -> float:
+    """Half-angle of the fan an incoming cable (fixed in the parent) sweeps in the link's frame: the stop angle and
+    FLARE_EXTRA_DEG more."""
+    return h.stop_deg + FLARE_EXTRA_DEG
+
+
+def fan_cutter(point, u, radius: float, length: float, half_deg: float) -> bd.Solid:
+    """The hole a straight rod (``radius``, from ``point`` along unit ``u`` for ``length``) cuts while it turns
+    about the vertical axis through ``point`` by +/- ``half_deg``: its section in its own vertical plane (a strip
+    2 radius wide, cut at the turning axis) revolved through the whole fan, with the rod itself at both ends of
+    the fan and a ball at the pivot. One revolved face instead of a union of many turned rods: the rods all meet
+    at the pivot, and OpenCascade's booleans of near-coincident cylinders there shred the part."""
+    px, py, pz = point
+    hx, hy, v = u
+    h = math.hypot(hx, hy)
+    if h < 1e-6:       # a vertical rod turns on itself
+        return rod(point, u, radius, length)
+    er = (hx / h, hy / h)
+    # the strip in (rho, z) about the pivot, clipped to rho >= eps (Sutherland-Hodgman on one edge): an edge on the
+    # turning axis itself would revolve into degenerate faces; the ball covers the thin core left
+    quad = [(s * h - t * v, s * v + t * h) for s, t in ((0.0, -radius), (length, -radius), (length, radius),
+                                                         (0.0, radius))]
+    eps = 0.05 * radius
+    poly = []
+    for (r0, z0), (r1, z1) in zip(quad, quad[1:] + quad[:1]):
+        if r0 >= eps:
+            poly.append((r0, z0))
+        if (r0 >= eps) != (r1 >= eps):
+            k = (r0 - eps) / (r0 - r1)
+            poly.append((eps, z0 + k * (z1 - z0)))
+    pts = [(px + r * er[0], py + r * er[1], pz + z) for r, z in poly]
+    face = bd.Face(bd.Wire.make_polygon(pts, close=True))
+    axis = bd.Axis((px, py, pz), (0, 0, 1))
+    sweep = bd.Solid.revolve(face.rotate(axis, -half_deg), 2 * half_deg, axis)
+    ends = [rod(point, turned(u, a), radius, length) for a in (-half_deg, half_deg)]
+    ball = bd.Solid.make_sphere(radius, angle1=-90, angle2=90, angle3=360, plane=bd.Plane(origin=tuple(point)))
+    return sweep.fuse(*ends, ball).clean()
+
+
+def cable_hole_cutters(h: JointHardware) -> list[bd.Solid]:
+    """Pass-through holes for the cables of the joints behind: straight along the outgoing segment (behind the
+    axis, to past the flange) and a fan along the incoming one (ahead of the axis, to past the sector's rim)."""
+    hr = h.hole_diameter_mm / 2
+    out = []
+    for cr in h.crossings:
+        d = cr.dir_out
+        length = (h.gap_half_mm + 1.0) / max(abs(d[0]), 1e-6) + 1.0
+        out.append(rod([c - 1.0 * u for c, u in zip(cr.point_mm, d)], d, hr, length))
+        u = cr.dir_in
+        reach = (h.sector_radius_mm + 1.0) / max(math.hypot(u[0], u[1]), 0.2) + 0.5
+        out.append(fan_cutter(cr.point_mm, u, hr, reach, fan_half_deg(h)))
+    return out
+
+
+def flange_solid(h: JointHardware) -> bd.Solid:
+    """The plate on the child's bulkhead, cut away round the axis where the parent's lugs and blocks sweep."""
+    x_back = h.x_mm - h.gap_half_mm
+    w = h.flange_half_width_mm
+    plate = box(x_back, x_back + h.flange_thickness_mm, -w, w, *h.flange_z_mm)
+    return plate.cut(*[vcyl(h.x_mm, 0, r, z0, z1) for z0, z1, r in h.flange_keep_out_mm if z1 > z0])
+
+
 def link_solid(p: Params, h: JointHardware) -> bd.Solid:
+    """The link without its fastener holes (the pin bores and the flange inserts come from the records)."""
     x = h.x_mm
     g2 = h.gap_half_mm
-    rk, rb = h.knuckle_radius_mm, h.bore_radius_mm
+    rk = h.knuckle_radius_mm
     z0, zw, zs, zt = h.z_knuckle_lo_mm, h.z_window_lo_mm, h.z_sector_lo_mm, h.z_sector_hi_mm
     x_back = x - g2
     big = 4 * h.sector_radius_mm
@@ -110,32 +194,13 @@ def link_solid(p: Params, h: JointHardware) -> bd.Solid:
     parts = [vcyl(x, 0, rk, z0, zw),                                                   # lower knuckle
              pie(x, h.tongue_radius_mm, -h.tongue_half_deg, h.tongue_half_deg, z0, zw),  # stop tongue
              box(x_back, x, -h.arm_half_width_mm, h.arm_half_width_mm, zw, zt)]         # arm
-    if zs > zw:
-        parts.append(vcyl(x, 0, rk, zw, zs))                                           # window column
     sector = vcyl(x, 0, h.sector_radius_mm, zs, zt)
     if h.sector_front_deg > 0:
         sector = sector.cut(pie(x, big, -h.sector_front_deg, h.sector_front_deg, zs - 1, zt + 1))
-    parts += [sector, vcyl(x, 0, rk, zs, zt),
-              box(x_back, x_back + h.flange_thickness_mm, -h.flange_half_width_mm, h.flange_half_width_mm,
-                  *h.flange_z_mm)]
+    parts += [sector, vcyl(x, 0, rk, zs, zt), flange_solid(h)]
     body = parts[0].fuse(*parts[1:]).clean()
     # --- cuts
-    hr = h.hole_diameter_mm / 2
-    # blind pin bores end a web short of the nearest pass-through hole (else a 0.4 mm skin separates them)
-    web = L.MIN_WEB_LINES * p.print.line_width_mm
-    z_bore_lo = min(zw, h.crossing_levels_mm[0] - hr - web) if h.crossing_levels_mm else zw
-    z_bore_hi = max(zs, h.crossing_levels_mm[-1] + hr + web) if h.crossing_levels_mm else zs
-    cuts = [vcyl(x, 0, rb, z0 - 1, z_bore_lo),                                         # lower pin bore (blind)
-            vcyl(x, 0, rb, z_bore_hi, zt + 1)]                                         # upper pin bore (blind)
-    flare = math.radians(h.stop_deg + FLARE_EXTRA_DEG)
-    lf = rk + 1.5
-    for z in h.crossing_levels_mm:
-        cuts.append(rod((x + 0.01, 0, z), (-1, 0, 0), hr, g2 + 1.0))                   # straight, behind
-        w = hr + lf * math.tan(flare)
-        wedge = bd.Solid.extrude(bd.Face(bd.Wire.make_polygon(
-            [(x, -hr, z - hr), (x + lf, -w, z - hr), (x + lf, w, z - hr), (x, hr, z - hr)], close=True)),
-            bd.Vector(0, 0, 2 * hr))
-        cuts += [wedge, rod((x, 0, z), (1, 0, 0), hr, lf)]
+    cuts = cable_hole_cutters(h)
     # grooves and anchors: left (+y) cable at own_levels[0], right at own_levels[1], mirrored
     span = h.anchor_deg - h.groove_start_deg
     for side, z in ((1, h.own_levels_mm[0]), (-1, h.own_levels_mm[1])):
@@ -149,11 +214,12 @@ def link_solid(p: Params, h: JointHardware) -> bd.Solid:
         start = (x + (h.groove_major_mm + 0.2) * u[0], (h.groove_major_mm + 0.2) * u[1], z)
         cuts.append(rod(start, (-u[0], -u[1], 0), h.cable_hole_diameter_mm / 2, h.groove_major_mm + 0.2 - ra))
         cuts.append(vcyl(x + ra * u[0], ra * u[1], h.anchor_hole_diameter_mm / 2, zs - 0.01, zt + 0.01))
-    for (y, z) in h.bolt_points_yz_mm:
-        cuts.append(rod((x_back - 1, y, z), (1, 0, 0), h.bolt_hole_diameter_mm / 2, h.flange_thickness_mm + 2))
-    body = body.cut(*cuts)
+    # one tool at a time: the fans' revolved faces in one multi-tool boolean came out empty (OCC 7.8), alone each
+    # cuts as it should
+    for c in cuts:
+        body = body.cut(c)
     # trim at the child's bulkhead face
-    body = isect(body, box(x_back, x + big, -big, big, z0 - 1, zt + 1))
+    body = isect(body, box(x_back, x + big, -big, big, min(z0, h.flange_z_mm[0]) - 1, max(zt, h.flange_z_mm[1]) + 1))
     return one_solid(body, f"joint_link_{h.joint}")
 
 

@@ -1,51 +1,51 @@
-"""Motor mounts: one plate per motor on top of its mounting face, fixed to the hull wall (body frame, mm).
+"""Motor mounts: one plate per motor on top of its mounting face, screwed to the hull wall (body frame, mm).
 
-Numbers first (:func:`mount_numbers`), solid second (:func:`mount_solid`).
+Numbers first (:func:`mount_numbers`, with the wall fixings of :mod:`swiftfin.layout.mount_plan`), solid second
+(:func:`mount_solid`), fasteners third (:func:`mount_fasteners`, registered in ``cad/fastening.py``; the registry
+cuts every screw's hole from the same records).
 
-The plate (``swiftfin.layout.geometry.plate_thickness_mm`` thick) lies on the motor's face, z_face .. z_face + plate, over the
-motor's frame along x and out to the hull's inner wall (less the assembly clearance) along y. It has the
-NEMA hole pattern (clearance holes for the motor screws, heads on top), the hole for the motor's pilot boss
-(a sliding fit: it centres the motor, so the spool axis lies exactly on ``motor_placements()``), and the
-spool above it is free (its hub starts ``spool_dims().hub_bottom_mm`` above the face). Two tabs reach the
-wall at ``swiftfin.layout.geometry.mount_fixings_mm``: a boss along the fixing normal with a pilot hole for the screw
-through the hull wall (``hull.screw_diameter_mm``). Posts with pilot holes carry the guide blocks at the
-points :func:`cad.guide.guide_blocks` gives (motor_mount_1 reaches aft under the bay guide for that).
+The plate (``swiftfin.layout.geometry.plate_thickness_mm`` thick) lies on the motor's face, z_face .. z_face + plate,
+over the motor's frame along x and out toward the hull's inner wall along y (less the assembly gap and the wall
+pads' thickness). It has the hole for the motor's pilot boss (a sliding fit: it centres the motor, so the spool axis
+lies exactly on ``motor_placements()``), and the spool above it is free (its hub starts ``spool_dims().hub_bottom_mm``
+above the face). Its joints:
+
+* **Motor <-> mount**: the four NEMA screws (``motor.mount_screw_diameter_mm``) from above through the plate into
+  the motor's own tapped holes (seat ``"tapped"``, ``motor.mount_hole_depth_mm`` deep): the shortest catalogue
+  length that reaches 1 d into the thread, with a spot face raised under each head (whole layers) where it would
+  otherwise reach the thread's end (:func:`swiftfin.layout.mount_plan.motor_screw_fit`: M3 x 8 over a 3.6 mm plate
+  and a 0.2 mm spot face, 4.2 mm into a 4.5 mm thread).
+* **Mount <-> hull wall**: two screws on each side, spread along x about the motor's station, from outside through
+  a pad of the upper hull half into heat-set inserts in bosses of the mount (:mod:`swiftfin.layout.mount_plan`
+  argues the arrangement and checks the loads: the cables' pull at the cable plane makes a pitch moment that two
+  screws on one line could not hold). A boss is a cylinder along the screw's axis over a block down to the print
+  face, so the insert's pocket has the insert maker's wall all round it, the print face included.
+* **Guides <-> mount**: posts (:func:`swiftfin.cad.guide.post_radius_mm` across: the insert boss rule) under the
+  guide blocks' screw points (:func:`swiftfin.cad.guide.guide_blocks`; motor_mount_1 reaches aft under the bay
+  guide), inserts in their tops, screws from the guides' tops (:func:`swiftfin.cad.guide.guide_fasteners`).
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 from swiftfin.cad.kernel import Plane, Polygon, Solid, extrude
 
-from swiftfin.cad.bought import pilot_hole_diameter_mm
-from swiftfin.cad.guide import POST_RADIUS_FACTOR, assembly_gap_mm, guide_blocks
-from swiftfin.layout.geometry import interior_half_width_at_height_mm, motor_placements, mount_fixings_mm, spool_dims
+from swiftfin.catalogues.fasteners import fastener
+from swiftfin.cad.guide import assembly_gap_mm, guide_blocks, post_radius_mm
+from swiftfin.layout.fastening import Fastener
+from swiftfin.layout.geometry import interior_half_width_at_height_mm, motor_placements, spool_dims
+from swiftfin.layout.mount_plan import WallFixing, motor_screw_fit, wall_fixings, wall_screw
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.errors import UserError
 from swiftfin.core.schema import Params
 
-TAB_DEPTH_FACTOR = 4.0
-"""Depth of the wall screw's pilot hole / screw diameter [-] (thread engagement ~2 d plus the tip).
-Engineering default."""
 BOSS_BELOW_FACTOR = 3.0
-"""Length of the boss under the plate at guide screws outside the motor's frame / guide screw diameter [-].
-Engineering default (with the plate, >= 2 d of thread in an M2 pilot)."""
+"""Length of the boss under the plate at guide screws outside the motor's frame / guide screw diameter [-], for a
+guide seated on the plate itself (not the default layout). Engineering default (room for the insert's pocket)."""
 PLATE_OUTLINE_SAMPLES = 9
 """Stations along x at which the plate's edge follows the hull's inner wall (a polygon through them lies
 inside the wall, whose half-width is concave in x)."""
-
-
-@dataclass(frozen=True)
-class Tab:
-    axis_start_mm: tuple[float, float, float]   # inner end of the tab's axis
-    axis_end_mm: tuple[float, float, float]     # end face centre, just inside the hull wall
-    direction: tuple[float, float, float]       # outward (the fixing normal)
-    radius_mm: float
-    pilot_diameter_mm: float
-    pilot_depth_mm: float
-    fixing_point_mm: tuple[float, float, float]
 
 
 @dataclass(frozen=True)
@@ -55,7 +55,6 @@ class Post:
     z_bottom_mm: float        # bottom of the boss below the plate, or the plate's bottom
     z_top_mm: float           # the guide block's underside
     radius_mm: float
-    pilot_diameter_mm: float
     guide: str
 
 
@@ -67,20 +66,16 @@ class MountNumbers:
     z_top_mm: float
     outline_xy_mm: tuple[tuple[float, float], ...]   # plate outline (counter-clockwise)
     motor_holes_xy_mm: tuple[tuple[float, float], ...]
-    motor_hole_diameter_mm: float
+    spot_face_mm: float                        # raised seat under each motor screw's head
+    spot_face_radius_mm: float
     pilot_hole_diameter_mm: float
-    tabs: tuple[Tab, ...]
+    fixings: tuple[WallFixing, ...]
     posts: tuple[Post, ...]
     bed_face: str             # "bottom" (the motor face side) or "top": the flat face to print on
 
     @property
     def print_rotation(self) -> tuple[float, float, float]:
         return (0.0, 0.0, 0.0) if self.bed_face == "bottom" else (180.0, 0.0, 0.0)
-
-
-def _inside_margin(p: Params, q) -> float:
-    """How far the point q lies inside the hull's inner wall, measured along y [mm] (negative: outside)."""
-    return interior_half_width_at_height_mm(p, -float(q[0]), float(q[2])) - abs(float(q[1]))
 
 
 def mount_numbers(p: Params) -> tuple[MountNumbers, ...]:
@@ -90,8 +85,10 @@ def mount_numbers(p: Params) -> tuple[MountNumbers, ...]:
     c = assembly_gap_mm(p)
     F = m.frame_size_mm
     wall = pr.perimeters * pr.line_width_mm
-    fixings = mount_fixings_mm(p)
+    fixings = wall_fixings(p)
+    fit = motor_screw_fit(p)
     blocks = guide_blocks(p)
+    r_post = post_radius_mm(p)
     out = []
     for mp in motor_placements(p):
         label = f"motor_mount_{mp.joint + 1}"
@@ -102,98 +99,82 @@ def mount_numbers(p: Params) -> tuple[MountNumbers, ...]:
         for b in blocks:
             if b.mount != label:
                 continue
-            r = POST_RADIUS_FACTOR * b.screw_diameter_mm
             for x, y in b.screw_points_mm:
-                # a guide sitting on the plate gets bosses under the plate for thread length, where the motor
-                # leaves room for them; a guide on posts has thread enough in its post
-                outside_frame = x < mp.x_mm - F / 2 - r or x > mp.x_mm + F / 2 + r
+                # a guide sitting on the plate gets bosses under the plate for the insert, where the motor
+                # leaves room for them; a guide on posts has room in its post
+                outside_frame = x < mp.x_mm - F / 2 - r_post or x > mp.x_mm + F / 2 + r_post
                 on_plate = b.seat_mm <= z1 + 1e-9
                 zb = z0 - BOSS_BELOW_FACTOR * b.screw_diameter_mm if outside_frame and on_plate else z0
-                posts.append(Post(x, y, zb, b.seat_mm, r, pilot_hole_diameter_mm(b.screw_diameter_mm), b.label))
-                x_back = min(x_back, x - r - wall)
+                posts.append(Post(x, y, zb, b.seat_mm, r_post, b.label))
+                x_back = min(x_back, x - r_post - wall)
+        fx = tuple(f for f in fixings if f.mount == label)
+        pad = max(f.pad_mm for f in fx)
         x_front = mp.x_mm + F / 2
         xs = np.linspace(x_back, x_front, PLATE_OUTLINE_SAMPLES)
-        hw = [min(interior_half_width_at_height_mm(p, -x, z0), interior_half_width_at_height_mm(p, -x, z1)) - c
+        hw = [min(interior_half_width_at_height_mm(p, -x, z0), interior_half_width_at_height_mm(p, -x, z1)) - c - pad
               for x in xs]
         if min(hw) < F / 2:
-            raise UserError(f"{label}: the hull is only {min(hw) + c:.1f} mm wide (half) at the mount plate, "
-                            f"narrower than the motor frame ({F / 2:g} mm)")
+            raise UserError(f"{label}: the hull is only {min(hw) + c + pad:.1f} mm wide (half) at the mount plate, "
+                            f"narrower than the motor frame ({F / 2:g} mm) and the wall screws' pads ({pad:.1f} mm)")
         outline = [(float(x), -float(h)) for x, h in zip(xs, hw)] + \
                   [(float(x), float(h)) for x, h in zip(xs[::-1], hw[::-1])]
         hs = m.hole_spacing_mm / 2
         holes = tuple((mp.x_mm + sx * hs, sy * hs) for sx in (1, -1) for sy in (1, -1))
-        # tabs at the wall fixings
-        tabs = []
-        sd = p.hull.screw_diameter_mm
-        tr = POST_RADIUS_FACTOR * sd
-        depth = TAB_DEPTH_FACTOR * sd
-        for f in fixings:
-            if f.part != label:
-                continue
-            P, n = np.asarray(f.point_mm), np.asarray(f.normal)
-            e1 = np.array([1.0, 0.0, 0.0])
-            e2 = np.cross(n, e1)
-            gap = c
-            for _ in range(400):
-                end = P - gap * n
-                rim = [end + tr * (math.cos(a) * e1 + math.sin(a) * e2) for a in np.linspace(0, 2 * math.pi, 37)]
-                if min(_inside_margin(p, q) for q in rim) >= c:
-                    break
-                gap += 0.02
-            else:
-                raise UserError(f"{label}: no room for the wall-screw tab at {tuple(round(v, 1) for v in P)} mm: "
-                                f"the hull wall curves away too fast for a {2 * tr:g} mm boss "
-                                f"(hull.screw_diameter_mm = {sd:g})")
-            end = P - gap * n
-            start = end - (depth + 1.0) * n
-            tabs.append(Tab(tuple(start), tuple(end), tuple(n), tr, pilot_hole_diameter_mm(sd), depth, f.point_mm))
         up = any(q.z_top_mm > z1 + 1e-9 for q in posts)
         down = any(q.z_bottom_mm < z0 - 1e-9 for q in posts)
         if up and down:
             raise UserError(f"{label}: the guide posts would stand both above and below the plate (no flat face "
                             f"to print it on); this layout of guides is not supported")
-        out.append(MountNumbers(mp.joint + 1, (mp.x_mm, 0.0), z0, z1, tuple(outline), holes,
-                                m.mount_screw_diameter_mm + 2 * pr.clearance_sliding_mm,
-                                m.pilot_diameter_mm + pr.clearance_sliding_mm, tuple(tabs), tuple(posts),
-                                "top" if down else "bottom"))
+        if down:
+            raise UserError(f"{label}: the guide posts stand below the plate, so it would print upside down and its "
+                            f"wall-screw bosses (which stand on the plate's bottom face) would hang; this layout of "
+                            f"guides is not supported")
+        out.append(MountNumbers(mp.joint + 1, (mp.x_mm, 0.0), z0, z1, tuple(outline), holes, fit.spot_face_mm,
+                                fit.spot_face_radius_mm, m.pilot_diameter_mm + pr.clearance_sliding_mm, fx,
+                                tuple(posts), "bottom"))
     return tuple(out)
 
 
+def boss_solid(f: WallFixing, z_bed_mm: float) -> Solid:
+    """A wall screw's boss: a cylinder along the screw's axis from the face, over a block down past the print face
+    (cut flush with it by :func:`mount_solid`)."""
+    axis = np.asarray(f.axis)
+    x_dir = np.array([float(f.side), 0.0, 0.0])          # local y then points up on both sides
+    y_dir = np.cross(axis, x_dir)
+    face = np.asarray(f.face_mm)
+    r, length = f.boss_radius_mm, f.boss_length_mm
+    cyl = Solid.make_cylinder(r, length, Plane(origin=tuple(face), x_dir=tuple(x_dir), z_dir=tuple(axis)))
+    h = (face[2] - z_bed_mm) / max(y_dir[2], 0.5) + 2.0
+    corner = face - r * x_dir - h * y_dir
+    block = Solid.make_box(2 * r, h, length, Plane(origin=tuple(corner), x_dir=tuple(x_dir), z_dir=tuple(axis)))
+    return cyl.fuse(block)
+
+
 def mount_solid(n: MountNumbers) -> Solid:
-    """The mount in the body frame at rest: plate, tabs, posts; motor holes, pilot bore and pilot holes."""
+    """The mount in the body frame at rest: plate, wall-screw bosses, posts, spot faces; the pilot bore. The screws'
+    holes (inserts, motor screw clearance) are cut by the registry from the fastener records."""
     z0, z1 = n.z_bottom_mm, n.z_top_mm
     plate = extrude(Polygon(*n.outline_xy_mm, align=None), z1 - z0).solids()[0].translate((0, 0, z0))
-    adds = []
-    for t in n.tabs:
-        length = float(np.linalg.norm(np.subtract(t.axis_end_mm, t.axis_start_mm)))
-        adds.append(Solid.make_cylinder(t.radius_mm, length, Plane(origin=t.axis_start_mm, z_dir=t.direction)))
+    adds = [boss_solid(f, z0) for f in n.fixings]
     for q in n.posts:
         if q.z_top_mm > q.z_bottom_mm:
             adds.append(Solid.make_cylinder(q.radius_mm, q.z_top_mm - q.z_bottom_mm,
                                             Plane(origin=(q.x_mm, q.y_mm, q.z_bottom_mm))))
-    body = plate.fuse(*adds) if adds else plate
-    # the face that goes on the print bed is flat: the tabs (and nothing else) are cut off beyond it
+    if n.spot_face_mm > 0:
+        for x, y in n.motor_holes_xy_mm:
+            adds.append(Solid.make_cylinder(n.spot_face_radius_mm, n.spot_face_mm + 0.01,
+                                            Plane(origin=(x, y, z1 - 0.01))))
+    body = plate.fuse(*adds)
+    # the face that goes on the print bed is flat: the bosses' blocks (and nothing else) are cut off beyond it
     x_all = [x for x, _ in n.outline_xy_mm]
-    z_cut = z0 - 20.0 if n.bed_face == "bottom" else z1
-    beyond = Solid.make_box(max(x_all) - min(x_all) + 40, 200, 20.0).translate((min(x_all) - 20, -100, z_cut))
-    for q in n.posts:   # keep the posts and bosses
-        lo, hi = (q.z_bottom_mm, z0) if n.bed_face == "bottom" else (z1, q.z_top_mm)
-        if hi > lo:
-            beyond = beyond.cut(Solid.make_cylinder(q.radius_mm + 0.01, hi - lo + 0.01,
-                                                    Plane(origin=(q.x_mm, q.y_mm, lo - 0.005))))
-    cutters = [beyond]
+    beyond = Solid.make_box(max(x_all) - min(x_all) + 40, 200, 20.0).translate((min(x_all) - 20, -100, z0 - 20.0))
+    for q in n.posts:   # keep posts reaching below the plate
+        if q.z_bottom_mm < z0:
+            beyond = beyond.cut(Solid.make_cylinder(q.radius_mm + 0.01, z0 - q.z_bottom_mm + 0.01,
+                                                    Plane(origin=(q.x_mm, q.y_mm, q.z_bottom_mm - 0.005))))
     r_p = n.pilot_hole_diameter_mm / 2
-    cutters.append(Solid.make_cylinder(r_p, z1 - z0 + 2, Plane(origin=(n.axis_xy_mm[0], n.axis_xy_mm[1], z0 - 1))))
-    for x, y in n.motor_holes_xy_mm:
-        cutters.append(Solid.make_cylinder(n.motor_hole_diameter_mm / 2, z1 - z0 + 2, Plane(origin=(x, y, z0 - 1))))
-    for t in n.tabs:
-        origin = np.asarray(t.axis_end_mm) - t.pilot_depth_mm * np.asarray(t.direction)
-        cutters.append(Solid.make_cylinder(t.pilot_diameter_mm / 2, t.pilot_depth_mm + 1.0,
-                                           Plane(origin=tuple(origin), z_dir=t.direction)))
-    for q in n.posts:
-        cutters.append(Solid.make_cylinder(q.pilot_diameter_mm / 2, q.z_top_mm - q.z_bottom_mm + 1.0,
-                                           Plane(origin=(q.x_mm, q.y_mm, q.z_bottom_mm - 0.5))))
-    body = body.cut(*cutters)
+    pilot = Solid.make_cylinder(r_p, z1 - z0 + 2, Plane(origin=(n.axis_xy_mm[0], n.axis_xy_mm[1], z0 - 1)))
+    body = body.cut(beyond, pilot)
     solids = body.solids()
     if len(solids) != 1:
         raise RuntimeError(f"motor_mount_{n.joint}: expected one solid, got {len(solids)}")
@@ -206,3 +187,35 @@ def make_motor_mounts(p: Params) -> list[PartSpec]:
                      print_rotation=n.print_rotation,
                      meta={"joint": n.joint, "guides": sorted({q.guide for q in n.posts})})
             for n in mount_numbers(p)]
+
+
+def mount_fasteners(p: Params) -> tuple[Fastener, ...]:
+    """The wall screws (hull's upper half -> insert in the mount's boss) and the motor's face screws (mount plate
+    -> the motor's tapped holes) of every mount."""
+    from swiftfin.layout.hull_plan import hull_pieces, part_label
+    pieces = hull_pieces(p)
+    blocks = guide_blocks(p)
+    s = wall_screw(p)
+    fit = motor_screw_fit(p)
+    key_r = fastener(fit.size).key_reach_diameter_mm / 2
+
+    def piece_at(x: float):
+        return next(q for q in pieces if q.s_start_mm <= -x <= q.s_end_mm)
+
+    out = []
+    for n in mount_numbers(p):
+        label = f"motor_mount_{n.joint}"
+        for f in n.fixings:
+            half = "upper" if f.point_mm[2] > 0 else "lower"
+            out.append(Fastener(f.label, s.name, "cap_screw", "insert", f.head_mm, f.axis, f.length_mm, f.grip_mm,
+                                part_label(p, piece_at(f.point_mm[0]), half), label,
+                                f"holds {label} to the hull wall (from outside)", 0, recess_mm=f.recess_mm))
+        for k, (x, y) in enumerate(n.motor_holes_xy_mm):
+            over = tuple(b.label for b in blocks
+                         if b.x_mm[0] - key_r < x < b.x_mm[1] + key_r and b.y_mm[0] - key_r < y < b.y_mm[1] + key_r)
+            out.append(Fastener(f"{label}_motor_{k + 1}", fit.size, "cap_screw", "tapped",
+                                (x, y, n.z_top_mm + fit.spot_face_mm), (0.0, 0.0, -1.0), fit.length_mm, fit.grip_mm,
+                                label, f"motor_{n.joint}", f"holds motor_{n.joint}'s face on {label}", 0,
+                                installed_after=over + (part_label(p, piece_at(x), "upper"),),
+                                meta={"hole_depth_mm": fit.hole_depth_mm}))
+    return tuple(out)

@@ -1,51 +1,78 @@
-"""Capstan spools: one per motor, on its shaft, in the body frame at rest (mm).
+"""Capstan spools: one split spool per motor, on its shaft, in the body frame at rest (mm). The spool is also the
+cable's tensioner (the argument for that choice is in :mod:`swiftfin.layout.tension`).
 
-Numbers first (:func:`spool_numbers`, built on :func:`swiftfin.layout.geometry.spool_dims`), solid second (:func:`spool_solid`).
+Numbers first (:func:`spool_numbers`, built on :func:`swiftfin.layout.geometry.spool_dims`), solids second
+(:func:`spool_solid`), fasteners as records (:func:`spool_fasteners`, listed in
+``swiftfin.cad.fastening.FASTENER_PLANS``; their holes are cut by the registry from the same records).
 
-The spool, from the motor face up: hub (bore with the shaft's D-flat, radial set screw onto the flat), lower
-flange, grooved drum, upper flange. Interpretation of the parameters (see the module's notes in the report):
+The spool, from the motor face up: hub (bore with the shaft's D-flat; a radial set screw onto the flat, threaded
+in a steel nut in a hex trap that opens down through the hub's underside so the nut drops in), lower flange,
+grooved drum, upper flange. The drum is **split at the cable plane** into two parts that turn on the shaft:
 
-* The **cable centre line** winds at radius ``spool.drum_diameter_mm / 2``: that is the radius the layout's cable
-  routes leave the drum at and the moment arm the physics uses. The groove root lies one cable radius inside
-  it, the drum surface ``spool.groove_depth_mm`` above the root (``SpoolDims.drum_radius_mm`` for the default,
-  where the depth is half the cable). The groove section is a circle of diameter
-  ``cable.diameter_mm + print.clearance_sliding_mm`` resting on the root.
+* ``spool_<j>`` (lower): hub, lower flange, the drum below the cable plane; carries the **right** cable.
+* ``spool_<j>_upper``: the drum above the cable plane and the upper flange, a round bore turning on the shaft;
+  carries the **left** cable.
+
+The halves are locked by one screw (``spool.index_screw_diameter_mm``) through a vernier of index holes: the
+upper half has ``spool.index_holes_upper`` clearance holes, the lower ``spool.index_holes_lower`` self-tap
+pilots on the same circle, so some pair lines up every 360 / (upper x lower) degrees (4 deg by default). Turning
+the upper half clockwise (from above) against the lower winds both cables in and raises the pretension by a
+known amount per step (:func:`swiftfin.layout.tension.tensioner_numbers`). When the screw would reach further
+into the lower half than it is deep, the screw is the longest catalogue length whose pilot stays in the lower half,
+and the upper half's top face is sunk in a ring round the index circle (the heads sit in it) until the screw holds
+1.5 d of thread.
+
+Interpretation of the parameters:
+
+* The **cable centre line** winds at radius ``spool.drum_diameter_mm / 2``: the radius the layout's cable routes
+  leave the drum at and the moment arm the physics uses. The groove root lies one cable radius inside it, the drum
+  surface ``spool.groove_depth_mm`` above the root. The groove section is a circle of diameter
+  ``cable.diameter_mm + print.clearance_sliding_mm`` resting on the root. The **ridge** between two turns (pitch
+  minus the groove's width at the drum surface) must be at least ``print.line_width_mm`` (UserError otherwise).
 * The groove is a **right-handed helix** (z rises counter-clockwise seen from above), so the pull-pull cable,
-  leaving the drum on both sides toward the tail, wraps between its two leave points (friction capstan,
-  paper §2.3.1): the left (+y) cable leaves from the upper end of the wrapped region, the right one from
-  the lower end. The groove runs ``groove_turns`` turns centred on the cable plane: ``wraps`` between the
-  leave points plus the joint's travel and margin at both ends, as :func:`swiftfin.layout.geometry.spool_dims` sizes it.
-* **Anchors.** Each cable end (left and right piece of the pull-pull pair) is wound from its leave point
-  toward the middle of the wrapped region, where it dives into a radial hole at the groove root and leaves
-  the spool through an axial hole up through the upper flange, to be knotted (or crimped) on its top face,
-  where both knots can be reached with the spool on its motor. The ends of the groove stay free for the
-  travel: an anchor there would sit where the other cable's turns run.
+  leaving the drum on both sides toward the tail, wraps between its two leave points: the left (+y) cable leaves
+  from the upper end of the wrapped region, the right one from the lower end. The groove runs ``groove_turns``
+  turns centred on the cable plane: wraps, the joint's travel at both ends, the margin and the tensioner's storage.
+* **Anchors and crimp seats.** Each cable end is wound from its leave point toward the cable plane and dives, half
+  a turn before it, into a radial hole at the groove root (half a pitch from the split, on its own half), then
+  leaves its half through an axial hole: the left one up through the upper flange, the right one down through the
+  lower flange beside the hub. A crimp sleeve (``swiftfin.catalogues.cable_parts``) on the end bears on the
+  flange round the hole: the upper one in a counterbore in the top face, the lower one in a channel down the
+  hub's side. The capstan's half turn between anchor and leave point unloads the crimp to e^(-mu pi) = 1/3 of
+  the cable's tension.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from swiftfin.cad.kernel import Axis, Edge, Face, Location, Plane, Solid, Wire
 
-from swiftfin.cad.bought import pilot_hole_diameter_mm
+from swiftfin.catalogues.cable_parts import crimp_sleeve
+from swiftfin.catalogues.fasteners import fastener
+from swiftfin.layout.fastening import Fastener
 from swiftfin.layout.geometry import cable_routes, motor_placements, spool_dims, spool_travel_turns
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.errors import UserError
 from swiftfin.core.schema import Params
 
-HUB_WALL_SET_SCREWS = 1.5
-"""Hub wall (bore to outside) / set screw diameter [-]: 4.5 mm of thread for an M3 set screw.
-Engineering default."""
+WALL_LINES = 2
+"""Least printed wall round a hole, a trap or a seat, in line widths (two perimeters; issue 12)."""
+
+ANCHOR_FROM_SPLIT_TURNS = 0.5
+"""Groove between a cable's anchor hole and the split plane [turns]: half a turn puts the anchor's radial hole
+half a pitch from the split, on its own half, clear of it by a groove radius."""
+
+CRIMP_SEAT_DEPTH_MM = 0.6
+"""Depth of the counterbore that centres the upper crimp sleeve on the top face [mm]. Engineering default."""
 
 PRINT_ROTATION = (180.0, 0.0, 0.0)
-"""Print upside down: the upper flange's flat face on the bed, the hub on top (its overhang is the lower
-flange's rim, ``spool.flange_height_mm`` wide; the hub-down way would add the flange's whole underside)."""
+"""Both halves print upside down: the lower half on its split face, the upper half on its flange's top face."""
 
 
 @dataclass(frozen=True)
 class SpoolNumbers:
-    """Everything the spool solid is built from, in the spool's own frame: z up the shaft from the motor's
+    """Everything the spool's two solids are built from, in the spool's own frame: z up the shaft from the motor's
     mounting face, angles counter-clockwise from the body's +x axis seen from above [mm, rad]."""
     joint: int                  # 1-based joint the motor drives
     axis_xy_mm: tuple[float, float]
@@ -56,6 +83,7 @@ class SpoolNumbers:
     lower_flange_z_mm: tuple[float, float]
     drum_z_mm: tuple[float, float]
     upper_flange_z_mm: tuple[float, float]
+    split_z_mm: float           # the halves meet here (the cable plane)
     pitch_radius_mm: float      # cable centre line
     root_radius_mm: float       # groove bottom
     surface_radius_mm: float    # drum surface between the groove turns
@@ -63,22 +91,40 @@ class SpoolNumbers:
     groove_centre_radius_mm: float
     groove_pitch_mm: float
     groove_turns: float
+    ridge_width_mm: float       # axial width of the drum surface between two groove turns
     cable_plane_mm: float       # groove (and wrap) centre height
     groove_start_angle_rad: float  # angle of the lower end of the groove helix
     leave_angles_rad: tuple[float, float]   # (left, right) cable leave points
     wrap_between_rad: float     # angle of groove between the two leave points
     anchor_hole_diameter_mm: float
     anchor_radius_mm: float     # radius of the axial part of the anchor holes
-    anchor_angles_rad: tuple[float, float]  # (left, right) radial part of the anchor holes
+    anchor_angles_rad: tuple[float, float]  # (left, right) radial part of the anchor holes (helix angles)
+    crimp_seat_diameter_mm: float
+    crimp_length_mm: float
     bore_radius_mm: float
-    flat_distance_mm: float     # from the axis to the bore's flat; the flat faces +x
-    set_screw_hole_diameter_mm: float
+    flat_distance_mm: float     # from the axis to the bore's flat (printed, with the sliding clearance)
+    shaft_flat_mm: float        # from the axis to the shaft's own flat (where the set screw's tip bears)
+    set_screw_angle_rad: float  # direction of the flat and of the set screw (from the axis out)
     set_screw_z_mm: float
+    set_screw_length_mm: float
+    nut_trap_x_mm: tuple[float, float]      # (inner, outer) faces of the hex trap, from the axis along the screw
+    nut_trap_half_width_mm: float           # across corners / 2 (the slot it drops down)
+    index_radius_mm: float
+    index_angles_upper_rad: tuple[float, ...]
+    index_angles_lower_rad: tuple[float, ...]
+    index_screw: str
+    index_screw_length_mm: float
+    index_recess_mm: float      # depth of the ring the screw heads sit in (0: on the top face)
 
     def helix_z_mm(self, angle_rad: float) -> float:
         """Height of the groove centre at ``angle`` on the turn through the cable plane's neighbourhood."""
         mid = self.groove_start_angle_rad + math.pi * self.groove_turns
         return self.cable_plane_mm + self.groove_pitch_mm * (angle_rad - mid) / (2 * math.pi)
+
+    def to_body(self, r: float, angle: float, z: float) -> tuple[float, float, float]:
+        """Body-frame point of the spool-frame point (radius, angle, height)."""
+        return (self.axis_xy_mm[0] + r * math.cos(angle), self.axis_xy_mm[1] + r * math.sin(angle),
+                self.z_face_mm + z)
 
 
 def _wrap_angle(leave_left: float, leave_right: float, wraps: float) -> float:
@@ -89,11 +135,89 @@ def _wrap_angle(leave_left: float, leave_right: float, wraps: float) -> float:
     return base + 2 * math.pi * k
 
 
+def ridge_width_mm(p: Params) -> float:
+    """Axial width of the drum surface left between two groove turns: pitch - the groove circle's chord at the
+    surface, 2 sqrt(r_g^2 - (r_g - depth)^2) (2 r_g if the groove is deeper than its radius)."""
+    g_r = (p.cable.diameter_mm + p.print.clearance_sliding_mm) / 2
+    h = g_r - p.spool.groove_depth_mm
+    width = 2 * math.sqrt(max(g_r * g_r - h * h, 0.0)) if h > 0 else 2 * g_r
+    return p.spool.groove_pitch_mm - width
+
+
 def spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
-    """The numbers of every spool (index j-1 for joint j). Raises UserError if the spool has no room for its hub."""
+    """The numbers of every spool (index j-1 for joint j). Raises UserError if the design leaves a ridge under a
+    line width, or no room for the hub, the anchors, the index holes or the screws."""
     d = spool_dims(p)
     s, m, pr = p.spool, p.motor, p.print
+    w = WALL_LINES * pr.line_width_mm
+    ridge = ridge_width_mm(p)
+    if ridge < pr.line_width_mm - 1e-9:
+        g = p.spool.groove_pitch_mm - ridge
+        raise UserError(f"spool: the groove ridges are {ridge:.2f} mm wide (spool.groove_pitch_mm = "
+                        f"{s.groove_pitch_mm:g} less the {g:.2f} mm groove), under one print.line_width_mm = "
+                        f"{pr.line_width_mm:g}: raise spool.groove_pitch_mm to at least "
+                        f"{math.ceil((g + pr.line_width_mm) * 100) / 100:g}")
     routes = cable_routes(p)
+    pitch_r = s.drum_diameter_mm / 2
+    root_r = pitch_r - p.cable.diameter_mm / 2
+    surf_r = root_r + s.groove_depth_mm
+    g_r = (p.cable.diameter_mm + pr.clearance_sliding_mm) / 2
+    hole_d = p.cable.diameter_mm + 2 * pr.clearance_sliding_mm
+    anchor_r = root_r - hole_d / 2 - w / 2
+    bore_r = (m.shaft_diameter_mm + pr.clearance_sliding_mm) / 2
+    crimp = crimp_sleeve(p.cable.diameter_mm)
+    seat_d = crimp.seat_diameter_mm(pr.clearance_sliding_mm)
+    if anchor_r - hole_d / 2 < bore_r + w:
+        raise UserError(
+            f"spool: spool.drum_diameter_mm = {s.drum_diameter_mm:g} leaves no room for the cable anchor holes "
+            f"({hole_d:.2f} mm) between the groove root (radius {root_r:.2f} mm) and the {2 * bore_r:.2f} mm shaft "
+            f"bore: needs a drum of at least {2 * (bore_r + 1.5 * w + hole_d + p.cable.diameter_mm / 2):.2f} mm")
+    # ---- set screw in a nut trap in the hub, on the shaft's flat
+    ss = fastener(s.set_screw_diameter_mm)
+    flat = m.shaft_diameter_mm / 2 - m.shaft_flat_depth_mm + pr.clearance_sliding_mm / 2
+    shaft_flat = m.shaft_diameter_mm / 2 - m.shaft_flat_depth_mm
+    x_in = max(flat + w, (bore_r + w) * flat / bore_r)          # two perimeters from the flat and the bore's arc
+    x_out = x_in + ss.nut_trap_depth_mm
+    half = ss.nut_trap_width_mm / math.sqrt(3.0)                # across corners / 2
+    ss_len = ss.length_for(x_out - shaft_flat, set_screw=True)
+    if ss_len is None:
+        raise UserError(f"spool: no {ss.name} set screw in catalogues/fasteners.toml reaches "
+                        f"{x_out - shaft_flat:.1f} mm from its nut to the shaft's flat")
+    hub_r = max(math.hypot(x_out, half) + w, shaft_flat + ss_len + w, bore_r + ss.key_reach_diameter_mm / 2 + w)
+    hub_z = (d.hub_bottom_mm, d.hub_bottom_mm + d.hub_length_mm)
+    if ss.nut_trap_width_mm / 2 + w > d.hub_length_mm / 2:
+        raise UserError(f"spool: spool.hub_length_mm = {s.hub_length_mm:g} is too short for the {ss.name} set "
+                        f"screw's nut trap ({ss.nut_trap_width_mm:.1f} mm and two perimeters above and below)")
+    # ---- index screw through the vernier
+    ix = fastener(s.index_screw_diameter_mm)
+    z2 = hub_z[1] + d.flange_mm
+    z3 = z2 + d.groove_length_mm
+    z4 = z3 + d.flange_mm
+    split = d.cable_plane_mm
+    index_r = (bore_r + root_r) / 2
+    grip_full = z4 - split
+    lower_depth = split - hub_z[1]                              # lower drum half + lower flange
+    past_max = lower_depth - 1.0 - w                            # the pilot runs 1 mm past the tip
+    ix_len = ix.length_at_most(grip_full + past_max)           # its pilot stays inside the lower half
+    if ix_len is None or past_max < ix.engagement_min_mm:
+        raise UserError(f"spool: the lower half is {lower_depth:.1f} mm deep, too shallow for the {ix.name} index "
+                        f"screw's {ix.engagement_min_mm:.1f} mm of thread (raise spool.tension_storage_turns or "
+                        f"spool.flange_thickness_mm, or use a smaller spool.index_screw_diameter_mm)")
+    recess = max(grip_full + ix.engagement_min_mm - ix_len, 0.0)   # sink the heads until the thread holds 1.5 d
+    if recess > grip_full - d.flange_mm:
+        raise UserError(f"spool: the {ix.name} x {ix_len:g} index screw would sink {recess:.1f} mm into the upper "
+                        f"half: use a smaller spool.index_screw_diameter_mm")
+    hole = ix.counterbore_diameter_mm if recess > 0 else ix.clearance_hole_mm
+    if index_r - hole / 2 < bore_r + w or index_r + ix.clearance_hole_mm / 2 > root_r - w:
+        raise UserError(f"spool: spool.drum_diameter_mm = {s.drum_diameter_mm:g} leaves no room for the {ix.name} "
+                        f"index holes between the bore and the groove root")
+    nu, nl = s.index_holes_upper, s.index_holes_lower
+    if 2 * index_r * math.sin(math.pi / nu) < ix.clearance_hole_mm + w:
+        raise UserError(f"spool: spool.index_holes_upper = {nu} holes of {ix.clearance_hole_mm:g} mm do not fit on "
+                        f"the {2 * index_r:.1f} mm index circle with two perimeters between them")
+    if 2 * index_r * math.sin(math.pi / nl) < ix.pilot_hole_mm + w:
+        raise UserError(f"spool: spool.index_holes_lower = {nl} holes do not fit on the {2 * index_r:.1f} mm "
+                        f"index circle with two perimeters between them")
     out = []
     for mp in motor_placements(p):
         left = next(r for r in routes if r.joint == mp.joint and r.side == +1).points_mm[0]
@@ -103,44 +227,79 @@ def spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
         wrap = _wrap_angle(phi_l, phi_r, s.wraps)
         phi_mid = phi_l - wrap / 2
         spare = (d.groove_turns - wrap / (2 * math.pi)) / 2
-        travel = spool_travel_turns(p, mp.joint)
+        travel = spool_travel_turns(p, mp.joint) + s.tension_storage_turns / 2
         if spare < travel - 1e-9:
             raise UserError(
                 f"spool_{mp.joint + 1}: the cable leaves the drum {wrap / (2 * math.pi):.2f} turns apart on its two "
-                f"sides, leaving {spare:.2f} turns of groove at each end for {travel:.2f} turns of travel: raise "
-                f"spool.groove_margin_turns or change spool.wraps = {s.wraps:g}")
-        pitch_r = s.drum_diameter_mm / 2
-        root_r = pitch_r - p.cable.diameter_mm / 2
-        surf_r = root_r + s.groove_depth_mm
-        g_r = (p.cable.diameter_mm + pr.clearance_sliding_mm) / 2
-        hole_d = p.cable.diameter_mm + 2 * pr.clearance_sliding_mm
-        anchor_r = root_r - hole_d / 2 - pr.line_width_mm
-        bore_r = (m.shaft_diameter_mm + pr.clearance_sliding_mm) / 2
-        hub_r = bore_r + HUB_WALL_SET_SCREWS * s.set_screw_diameter_mm
-        if anchor_r - hole_d / 2 < bore_r + pr.line_width_mm:
-            raise UserError(
-                f"spool_{mp.joint + 1}: spool.drum_diameter_mm = {s.drum_diameter_mm:g} leaves no room for the "
-                f"cable anchor holes ({hole_d:.2f} mm) between the groove root (radius {root_r:.2f} mm) and the "
-                f"{2 * bore_r:.2f} mm shaft bore: needs a drum of at least "
-                f"{2 * (bore_r + 2 * pr.line_width_mm + hole_d + p.cable.diameter_mm / 2):.2f} mm")
-        z0 = d.hub_bottom_mm
-        z1 = z0 + d.hub_length_mm
-        z2 = z1 + d.flange_mm
-        z3 = z2 + d.groove_length_mm
-        eps = hole_d / root_r
+                f"sides, leaving {spare:.2f} turns of groove at each end for {travel:.2f} turns of travel and "
+                f"tensioner storage: raise spool.groove_margin_turns or change spool.wraps = {s.wraps:g}")
+        a_off = 2 * math.pi * ANCHOR_FROM_SPLIT_TURNS
+        if wrap / 2 < a_off + hole_d / root_r:
+            raise UserError(f"spool_{mp.joint + 1}: the cable wraps {wrap / (2 * math.pi):.2f} turns between its "
+                            f"leave points, too few to anchor each end half a turn from the split: "
+                            f"spool.wraps = {s.wraps:g} must be at least 1.2")
+        phi_a = phi_mid + a_off                 # both anchors lie at this angle, a pitch apart
+        # index holes: each ring starts half an upper pitch from the anchors' axial holes; hole 0 of both lines up
+        start = phi_a + math.pi / nu
+        up = tuple(start + 2 * math.pi * k / nu for k in range(nu))
+        lo = tuple(start + 2 * math.pi * k / nl for k in range(nl))
+        for ring, hd in ((up, ix.clearance_hole_mm), (lo, ix.pilot_hole_mm)):
+            gap = min(math.sqrt(index_r**2 + anchor_r**2 - 2 * index_r * anchor_r * math.cos(a - phi_a))
+                      for a in ring)
+            if gap < hd / 2 + hole_d / 2 + w - 1e-9:
+                raise UserError(f"spool_{mp.joint + 1}: an index hole comes within {gap:.2f} mm of a cable anchor "
+                                f"hole: change spool.index_holes_upper / spool.index_holes_lower")
         out.append(SpoolNumbers(
             joint=mp.joint + 1, axis_xy_mm=(mp.x_mm, 0.0), z_face_mm=mp.z_face_mm,
-            hub_radius_mm=hub_r, hub_z_mm=(z0, z1), flange_radius_mm=d.flange_radius_mm,
-            lower_flange_z_mm=(z1, z2), drum_z_mm=(z2, z3), upper_flange_z_mm=(z3, z3 + d.flange_mm),
+            hub_radius_mm=hub_r, hub_z_mm=hub_z, flange_radius_mm=d.flange_radius_mm,
+            lower_flange_z_mm=(hub_z[1], z2), drum_z_mm=(z2, z3), upper_flange_z_mm=(z3, z4), split_z_mm=split,
             pitch_radius_mm=pitch_r, root_radius_mm=root_r, surface_radius_mm=surf_r, groove_radius_mm=g_r,
             groove_centre_radius_mm=root_r + g_r, groove_pitch_mm=s.groove_pitch_mm, groove_turns=d.groove_turns,
-            cable_plane_mm=d.cable_plane_mm, groove_start_angle_rad=phi_mid - math.pi * d.groove_turns,
+            ridge_width_mm=ridge, cable_plane_mm=d.cable_plane_mm,
+            groove_start_angle_rad=phi_mid - math.pi * d.groove_turns,
             leave_angles_rad=(phi_l, phi_r), wrap_between_rad=wrap, anchor_hole_diameter_mm=hole_d,
-            anchor_radius_mm=anchor_r, anchor_angles_rad=(phi_mid + eps, phi_mid - eps),
-            bore_radius_mm=bore_r,
-            flat_distance_mm=m.shaft_diameter_mm / 2 - m.shaft_flat_depth_mm + pr.clearance_sliding_mm / 2,
-            set_screw_hole_diameter_mm=pilot_hole_diameter_mm(s.set_screw_diameter_mm),
-            set_screw_z_mm=(z0 + z1) / 2))
+            anchor_radius_mm=anchor_r, anchor_angles_rad=(phi_mid + a_off, phi_mid - a_off),
+            crimp_seat_diameter_mm=seat_d, crimp_length_mm=crimp.length_mm,
+            bore_radius_mm=bore_r, flat_distance_mm=flat, shaft_flat_mm=shaft_flat,
+            set_screw_angle_rad=phi_a + math.pi, set_screw_z_mm=(hub_z[0] + hub_z[1]) / 2,
+            set_screw_length_mm=ss_len, nut_trap_x_mm=(x_in, x_out), nut_trap_half_width_mm=half,
+            index_radius_mm=index_r, index_angles_upper_rad=up, index_angles_lower_rad=lo, index_screw=ix.name,
+            index_screw_length_mm=ix_len, index_recess_mm=recess))
+    return tuple(out)
+
+
+# ----------------------------------------------------------------------------------------------- fasteners
+def _set_screw(n: SpoolNumbers, size: str) -> Fastener:
+    a = n.set_screw_angle_rad
+    x_head = n.shaft_flat_mm + n.set_screw_length_mm
+    return Fastener(
+        label=f"spool_{n.joint}_set_screw", size=size, kind="set_screw", seat="nut",
+        head_mm=n.to_body(x_head, a, n.set_screw_z_mm), axis=(-math.cos(a), -math.sin(a), 0.0),
+        length_mm=n.set_screw_length_mm, grip_mm=x_head - n.nut_trap_x_mm[1],
+        head_part=f"spool_{n.joint}", thread_part=f"spool_{n.joint}",
+        joins=f"spool {n.joint} to its motor's shaft (on the flat)", link=0,
+        recess_mm=n.hub_radius_mm - x_head, meta={"nut_open_mm": 0.0})
+
+
+def _index_screw(n: SpoolNumbers, angle_upper: float | None = None) -> Fastener:
+    a = n.index_angles_upper_rad[0] if angle_upper is None else angle_upper
+    z_head = n.upper_flange_z_mm[1] - n.index_recess_mm
+    return Fastener(
+        label=f"spool_{n.joint}_index_screw", size=n.index_screw, kind="cap_screw", seat="self_tap",
+        head_mm=n.to_body(n.index_radius_mm, a, z_head), axis=(0.0, 0.0, -1.0),
+        length_mm=n.index_screw_length_mm, grip_mm=z_head - n.split_z_mm,
+        head_part=f"spool_{n.joint}_upper", thread_part=f"spool_{n.joint}",
+        joins=f"spool {n.joint}'s halves, through one aligned pair of vernier index holes (the cable tensioner)",
+        link=0, recess_mm=n.index_recess_mm)
+
+
+def spool_fasteners(p: Params) -> tuple[Fastener, ...]:
+    """Every spool's set screw (in a nut in the hub, on the shaft's flat) and index screw (upper half to lower,
+    through the pair of index holes that line up at rest)."""
+    size = fastener(p.spool.set_screw_diameter_mm).name
+    out = []
+    for n in spool_numbers(p):
+        out += [_set_screw(n, size), _index_screw(n)]
     return tuple(out)
 
 
@@ -154,6 +313,10 @@ def _radial_cyl(r: float, angle: float, r0: float, r1: float, z: float) -> Solid
     d = (math.cos(angle), math.sin(angle), 0.0)
     origin = (r0 * d[0], r0 * d[1], z)
     return Solid.make_cylinder(r, r1 - r0, Plane(origin=origin, z_dir=d))
+
+
+def _axial_cyl(r: float, at_r: float, angle: float, z0: float, z1: float) -> Solid:
+    return Solid.make_cylinder(r, z1 - z0, Plane(origin=(at_r * math.cos(angle), at_r * math.sin(angle), z0)))
 
 
 def groove_cutter(n: SpoolNumbers) -> Solid:
@@ -177,55 +340,121 @@ def _one(shape, what: str) -> Solid:
     return solids[0]
 
 
-def _anchor_cutters(n: SpoolNumbers) -> list[Solid]:
+def _anchor_cutters(n: SpoolNumbers, side: int) -> list[Solid]:
+    """The anchor of the left (side +1, up through the upper flange) or right (-1, down through the lower
+    flange) cable: radial hole at the groove root, axial hole out of its half, crimp seat."""
     r = n.anchor_hole_diameter_mm / 2
-    out = []
-    for angle in n.anchor_angles_rad:
-        z = n.helix_z_mm(angle)
-        radial = _radial_cyl(r, angle, n.anchor_radius_mm, n.groove_centre_radius_mm + n.groove_radius_mm, z)
-        ax, ay = n.anchor_radius_mm * math.cos(angle), n.anchor_radius_mm * math.sin(angle)
-        z_start = z - 0.37 * r   # past the radial hole's axis: no tangent faces
-        axial = Solid.make_cylinder(r, n.upper_flange_z_mm[1] + 1 - z_start, Plane(origin=(ax, ay, z_start)))
-        out += [radial, axial]
+    angle = n.anchor_angles_rad[0 if side > 0 else 1]
+    z = n.helix_z_mm(angle)
+    out = [_radial_cyl(r, angle, n.anchor_radius_mm, n.groove_centre_radius_mm + n.groove_radius_mm, z)]
+    seat_r = n.crimp_seat_diameter_mm / 2
+    if side > 0:
+        top = n.upper_flange_z_mm[1]
+        out.append(_axial_cyl(r, n.anchor_radius_mm, angle, z - 0.37 * r, top + 1))   # past the radial hole's axis
+        seat_bottom = top - max(CRIMP_SEAT_DEPTH_MM, n.index_recess_mm + CRIMP_SEAT_DEPTH_MM)
+        out.append(_axial_cyl(seat_r, n.anchor_radius_mm, angle, seat_bottom, top + 1))
+    else:
+        bottom = n.lower_flange_z_mm[0]
+        out.append(_axial_cyl(r, n.anchor_radius_mm, angle, bottom - 1, z + 0.37 * r))
+        # the crimp hangs below the lower flange in a channel down the hub's side
+        out.append(_axial_cyl(seat_r, n.anchor_radius_mm, angle, n.hub_z_mm[0] - 1, bottom))
     return out
 
 
-def _bore_cutter(n: SpoolNumbers) -> Solid:
-    z0, z1 = n.hub_z_mm[0] - 1, n.upper_flange_z_mm[1] + 1
-    rod = _cyl(n.bore_radius_mm, z0, z1)
-    half = Solid.make_box(2 * n.bore_radius_mm + 2, 4 * n.bore_radius_mm + 4, z1 - z0 + 2,
-                          Plane.XY.offset(z0 - 1)).translate((n.flat_distance_mm, -2 * n.bore_radius_mm - 2, 0))
-    return rod.cut(half)
+def _bore_cutter(n: SpoolNumbers, z0: float, z1: float, flat: bool) -> Solid:
+    rod = _cyl(n.bore_radius_mm, z0 - 1, z1 + 1)
+    if not flat:
+        return rod
+    half = Solid.make_box(2 * n.bore_radius_mm + 2, 4 * n.bore_radius_mm + 4, z1 - z0 + 4,
+                          Plane.XY.offset(z0 - 2)).translate((n.flat_distance_mm, -2 * n.bore_radius_mm - 2, 0))
+    return rod.cut(half).rotate(Axis.Z, math.degrees(n.set_screw_angle_rad))
 
 
-def spool_solid(n: SpoolNumbers, *, groove: bool = True, anchors: bool = True, bore: bool = True,
-                set_screw: bool = True) -> Solid:
-    """The spool in the body frame at rest. The keywords leave features out (for the analytic tests)."""
+def _nut_slot(n: SpoolNumbers) -> Solid:
+    """The way the set screw's nut drops into its trap: from the hub's underside up to the trap's centre, as wide as
+    the nut across its corners (the registry cuts the trap itself from the fastener record)."""
+    x0, x1 = n.nut_trap_x_mm
+    h = n.nut_trap_half_width_mm
+    z0, z1 = n.hub_z_mm[0] - 1, n.set_screw_z_mm
+    box = Solid.make_box(x1 - x0, 2 * h, z1 - z0, Plane.XY.offset(z0)).translate((x0, -h, 0))
+    return box.rotate(Axis.Z, math.degrees(n.set_screw_angle_rad))
+
+
+def _blank(n: SpoolNumbers) -> Solid:
     body = _cyl(n.hub_radius_mm, *n.hub_z_mm)
     for part in (_cyl(n.flange_radius_mm, *n.lower_flange_z_mm), _cyl(n.surface_radius_mm, *n.drum_z_mm),
                  _cyl(n.flange_radius_mm, *n.upper_flange_z_mm)):
         body = body.fuse(part)
-    body = body.clean()
+    return body.clean()
+
+
+def _index_cutters(n: SpoolNumbers, half: str) -> list[Solid]:
+    """Every index hole but the one the index screw's record sits in (the registry cuts that one): the cutters of
+    the same record moved to each hole, in the spool's own frame. The upper half also gets the ring its screw
+    heads sink into, when they do."""
+    from swiftfin.cad.fastening import head_cutters, seat_cutters
+    base = _index_screw(n)
+    back = Location((-n.axis_xy_mm[0], -n.axis_xy_mm[1], -n.z_face_mm))
+    out: list[Solid] = []
+    angles = n.index_angles_upper_rad if half == "upper" else n.index_angles_lower_rad
+    for a in angles[1:]:
+        f = replace(base, head_mm=n.to_body(n.index_radius_mm, a, base.head_mm[2] - n.z_face_mm))
+        for c in (head_cutters(f) if half == "upper" else seat_cutters(f)):
+            out.append(c.moved(back))
+    if half == "upper" and n.index_recess_mm > 0:
+        cb = fastener(n.index_screw).counterbore_diameter_mm / 2
+        top = n.upper_flange_z_mm[1]
+        ring = _cyl(n.index_radius_mm + cb, top - n.index_recess_mm, top + 1).cut(
+            _cyl(n.index_radius_mm - cb, top - n.index_recess_mm - 1, top + 2))
+        out.append(ring)
+    return out
+
+
+def spool_solid(n: SpoolNumbers, half: str = "whole", *, groove: bool = True, anchors: bool = True,
+                bore: bool = True, set_screw: bool = True, index: bool = True) -> Solid:
+    """The spool in the body frame at rest: ``half`` = "lower" (``spool_<j>``), "upper" (``spool_<j>_upper``) or
+    "whole" (both, fused: the envelope other parts keep clear of). The keywords leave features out (for the
+    analytic tests); the fastener holes of :func:`spool_fasteners` records are not cut here (the registry cuts
+    them), only the nut's drop slot and the index holes the records do not sit in."""
+    if half == "whole":
+        lo = spool_solid(n, "lower", groove=groove, anchors=anchors, bore=bore, set_screw=set_screw, index=index)
+        up = spool_solid(n, "upper", groove=groove, anchors=anchors, bore=bore, set_screw=set_screw, index=index)
+        return _one(lo.fuse(up).clean(), f"spool_{n.joint}")
+    body = _blank(n)
+    big = 2 * n.flange_radius_mm + 2
+    if half == "lower":
+        keep = Solid.make_box(big, big, n.split_z_mm - n.hub_z_mm[0] + 2, Plane.XY.offset(n.hub_z_mm[0] - 2))
+        z_span = (n.hub_z_mm[0], n.split_z_mm)
+    else:
+        keep = Solid.make_box(big, big, n.upper_flange_z_mm[1] - n.split_z_mm + 2, Plane.XY.offset(n.split_z_mm))
+        z_span = (n.split_z_mm, n.upper_flange_z_mm[1])
+    body = _one(body.intersect(keep.translate((-big / 2, -big / 2, 0))), f"spool_{n.joint} {half}")
     cutters: list[Solid] = []
     if groove:
         cutters.append(groove_cutter(n))
     if anchors:
-        cutters += _anchor_cutters(n)
+        cutters += _anchor_cutters(n, +1 if half == "upper" else -1)
     if bore:
-        cutters.append(_bore_cutter(n))
-    if set_screw:
-        cutters.append(_radial_cyl(n.set_screw_hole_diameter_mm / 2, 0.0, 0.0, n.hub_radius_mm + 1, n.set_screw_z_mm))
+        cutters.append(_bore_cutter(n, *z_span, flat=half == "lower"))
+    if set_screw and half == "lower":
+        cutters.append(_nut_slot(n))
+    if index:
+        cutters += _index_cutters(n, half)
     if cutters:
         body = body.cut(*cutters)
-    return _one(body, f"spool_{n.joint}").moved(Location((n.axis_xy_mm[0], n.axis_xy_mm[1], n.z_face_mm)))
+    label = f"spool_{n.joint}" + ("_upper" if half == "upper" else "")
+    return _one(body, label).moved(Location((n.axis_xy_mm[0], n.axis_xy_mm[1], n.z_face_mm)))
 
 
 def make_spools(p: Params) -> list[PartSpec]:
-    """One ``spool_<j>`` per motor (joint j), on its motor's shaft, link 0."""
+    """Two parts per motor (joint j), on its motor's shaft, link 0: ``spool_<j>`` (hub, lower half, right cable)
+    and ``spool_<j>_upper`` (upper half, left cable), locked together by the index screw."""
     out = []
     for n in spool_numbers(p):
-        out.append(PartSpec(label=f"spool_{n.joint}", solid=spool_solid(n), link=0, family="spool",
-                            print_rotation=PRINT_ROTATION,
-                            meta={"joint": n.joint,
-                                  "wrap_between_leave_points_turns": n.wrap_between_rad / (2 * math.pi)}))
+        meta = {"joint": n.joint, "wrap_between_leave_points_turns": n.wrap_between_rad / (2 * math.pi),
+                "ridge_width_mm": n.ridge_width_mm}
+        out.append(PartSpec(label=f"spool_{n.joint}", solid=spool_solid(n, "lower"), link=0, family="spool",
+                            print_rotation=PRINT_ROTATION, meta=dict(meta, half="lower")))
+        out.append(PartSpec(label=f"spool_{n.joint}_upper", solid=spool_solid(n, "upper"), link=0, family="spool",
+                            print_rotation=PRINT_ROTATION, meta=dict(meta, half="upper")))
     return out

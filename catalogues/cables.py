@@ -18,10 +18,9 @@ from swiftfin.catalogues.table import by_name, is_positive_number
 
 HERE = Path(__file__).resolve().parent
 
-#: The entry's fields a design's ``[cable]`` section takes under the same name. ``creep_allowance_fraction`` is
-#: the cable's data for sizing a tensioner; no ``[cable]`` key reads it yet.
-PARAM_KEYS = ("material", "diameter_mm", "breaking_strength_n", "youngs_modulus_gpa", "linear_density_g_m",
-              "bending_stiffness_n_m2")
+#: The entry's fields a design's ``[cable]`` section takes under the same name.
+PARAM_KEYS = ("material", "diameter_mm", "breaking_strength_n", "youngs_modulus_gpa", "creep_allowance_fraction",
+              "linear_density_g_m", "bending_stiffness_n_m2")
 #: What the design rules need of a cable (the rest have defaults that do not depend on the product).
 RULE_KEYS = ("diameter_mm", "breaking_strength_n", "youngs_modulus_gpa")
 
@@ -34,7 +33,7 @@ class CableSpec:
     diameter_mm: float | None = None
     breaking_strength_n: float | None = None
     youngs_modulus_gpa: float | None = None          # effective, on the full section
-    creep_allowance_fraction: float | None = None    # permanent stretch over the cable's life, per length
+    creep_allowance_fraction: float | None = None
     linear_density_g_m: float | None = None
     bending_stiffness_n_m2: float | None = None
     fibre_tensile_modulus_gpa: tuple | None = None   # (low, high), the fibre's, not the cable's

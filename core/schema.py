@@ -131,6 +131,9 @@ class Motor:
     hole_spacing_mm: float = p(31.0, 10.0, 50.0, "Mounting hole square spacing", "NEMA 17 (31 mm)")
     mount_screw_diameter_mm: float = p(3.0, min(SCREWS), max(SCREWS), "Mounting screws (M3)",
                                        "NEMA 17; sizes of catalogues/fasteners.toml", choices=SCREWS)
+    mount_hole_depth_mm: float = p(4.5, 1.5, 20.0, "Depth of thread in the motor's tapped mounting holes (the "
+                                   "screws must reach far enough and not bottom out)",
+                                   "17HS4401 drawing (4 x M3, 4.5 mm deep)")
     mass_kg: float = p(0.28, 0.05, 1.0, "Motor mass", "17HS4401 datasheet (280 g)")
     rotor_inertia_kg_m2: float = p(5.4e-6, 1e-7, 1e-4, "Rotor inertia", "17HS4401 datasheet (54 g cm^2)")
     holding_torque_nm: float = p(0.42, 0.01, 5.0, "Holding torque", f"{PAPER} Table 2 (0.42 N m)")
@@ -158,7 +161,9 @@ class Spool:
     wraps: float = p(2.0, 0.5, 10.0, "Cable wraps on the drum (wrap angle / 2 pi)", f"{PAPER} Table 2 (4 pi rad)")
     groove_margin_turns: float = p(0.5, 0.0, 5.0, "Extra groove turns beyond wraps and travel",
                                    "Engineering default")
-    groove_pitch_mm: float = p(1.6, 0.5, 10.0, "Axial pitch of the helical groove", "Engineering default (1.6 x cable)")
+    groove_pitch_mm: float = p(1.8, 0.5, 10.0, "Axial pitch of the helical groove; the ridge between turns (pitch - groove "
+                               "width at the drum surface) must be at least print.line_width_mm",
+                               "Issue 12: the 1.6 mm pitch left 0.34 mm ridges; groove 1.26 mm wide + a 0.45 mm line")
     groove_depth_mm: float = p(0.5, 0.1, 3.0, "Radial depth of the groove", "Engineering default (half the cable)")
     flange_height_mm: float = p(3.0, 0.5, 20.0, "Flange height above the drum surface", "Engineering default")
     flange_thickness_mm: float = p(1.6, 0.8, 6.0, "Flange thickness", "Engineering default (4 line widths)")
@@ -166,6 +171,17 @@ class Spool:
                              "Engineering default")
     set_screw_diameter_mm: float = p(3.0, min(SCREWS), max(SCREWS), "Set screw (M3, on the shaft flat)",
                                      "Engineering default; sizes of catalogues/fasteners.toml", choices=SCREWS)
+    tension_storage_turns: float = p(0.75, 0.0, 5.0, "Relative turns the split spool's two halves may take to "
+                                     "pretension the cable (half at each end of the groove); must cover the cable's "
+                                     "creep, its stretch at pretension and the assembly tolerance "
+                                     "(swiftfin.layout.tension.tensioner_numbers)",
+                                     "Sized for the longest default route (joint 4: 0.73 turn needed)")
+    index_screw_diameter_mm: float = p(2.0, min(SCREWS), max(SCREWS), "Screw that locks the split spool's halves "
+                                       "through one aligned pair of vernier index holes (self-tapped in the lower half)",
+                                       "Engineering default; sizes of catalogues/fasteners.toml", choices=SCREWS)
+    index_holes_upper: int = p(10, 2, 40, "Index holes in the upper half of the split spool (vernier with the lower; "
+                               "coprime counts give 360 / (upper x lower) deg steps)", "Engineering default (4 deg steps)")
+    index_holes_lower: int = p(9, 2, 40, "Index holes in the lower half of the split spool", "Engineering default")
     mu_cable_drum: float = p(0.35, 0.02, 1.0, "Cable-on-drum friction coefficient", f"{PAPER} §2.3.1 (nylon on PLA 0.35)")
     mu_dynamic: float = p(0.15, 0.01, 1.0, "Dynamic friction coefficient in eq. 26", f"{PAPER} §2.3.4 (0.15)")
 
@@ -187,6 +203,13 @@ class Cable:
                                       "About 1/10 of a solid 1 mm nylon rod (braid)")
     linear_density_g_m: float = p(0.7, 0.01, 100.0, "Mass per metre", "Typical 1 mm braided nylon")
     eta_hysteresis: float = p(0.98, 0.5, 1.0, "Internal hysteresis efficiency (eq. 28)", f"{PAPER} §2.3.5 (0.98)")
+    creep_allowance_fraction: float = p(0.03, 0.0, 0.2, "Permanent stretch (creep and bedding-in of the braid) the "
+                                        "tensioner must take up over the cable's life, per length of free cable",
+                                        "Nylon 6.6 braids set 2-5 % under sustained load near 15-20 % of break "
+                                        "(rope makers' elongation data); 3 % chosen: measure yours")
+    assembly_tolerance_mm: float = p(3.0, 0.0, 50.0, "Length error of one cable side as assembled (crimp placed "
+                                     "by hand against a mark); the tensioner takes up one per side",
+                                     "Engineering default")
 
 
 @dataclass(frozen=True)

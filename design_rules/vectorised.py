@@ -58,6 +58,7 @@ from swiftfin.design_rules.rules import (MIN_GUIDE_BEND_RAD, MOTOR_CASE_AREA_FAC
 from swiftfin.layout import loads as _loads
 from swiftfin.layout.geometry import BAY_TO_JOINT_MM, MIN_WEB_LINES, MOTOR_PITCH_GAP_MM
 from swiftfin.layout.hull_plan import SPLICE_LENGTH_MM
+from swiftfin.layout.mount_plan import FIXING_SPREAD_FRACTION
 from swiftfin.physics import kinematics as _kin
 
 MM = 1e-3
@@ -420,6 +421,14 @@ def _max_abs_angle(num, den):
     return out
 
 
+def _fixing_stations_mm(motor_s, frame_mm):
+    """Stations of the motor mounts' wall screws (``layout.mount_plan.mount_fixings_mm``), which the hull's split
+    plan keeps its cuts away from: (N, n) motor stations -> (N, k): two per side at the motor's station -/+
+    ``FIXING_SPREAD_FRACTION`` x the frame size."""
+    dx = (FIXING_SPREAD_FRACTION * frame_mm)[:, None]
+    return np.concatenate([motor_s - dx, motor_s + dx], axis=1)
+
+
 def _row_blocks(rows: int, cols: int):
     """Slices of ``rows`` such that a (block, cols) float array stays under 128 KiB: glibc's malloc maps
     larger blocks from the kernel afresh each time (page faults at every temporary), smaller ones it reuses."""
@@ -543,6 +552,7 @@ class _Group:
         drum = c("spool.drum_diameter_mm")
         travel = (self.stop * m_mm / (drum / 2) / (2 * math.pi)).max(axis=0)
         turns = c("spool.wraps") + 2 * travel + c("spool.groove_margin_turns")
+        turns = turns + c("spool.tension_storage_turns")
         groove = turns * c("spool.groove_pitch_mm") + c("cable.diameter_mm")
         lw = c("print.line_width_mm")
         plate = np.maximum(3.0, 8 * lw)
@@ -1118,7 +1128,7 @@ class _Group:
             box[rows[better]] = sz[better]
 
         keep = SPLICE_LENGTH_MM + c("hull.screw_diameter_mm") + 3.0
-        fixings = motor_s     # layout.geometry.mount_fixings_mm: at the motors' stations; the split plan keeps away
+        fixings = _fixing_stations_mm(motor_s, c("motor.frame_size_mm"))     # what the split plan keeps away from
         allr = np.arange(N)
         for g in range(n + 1):
             st, en = seg_start[:, g:g + 1], seg_end[:, g:g + 1]

@@ -31,7 +31,14 @@ import numpy as np
 from swiftfin.catalogues.fasteners import ScrewSize, fastener
 
 KINDS = ("cap_screw", "set_screw", "dowel")
-SEATS = ("insert", "nut", "self_tap", "press", "slip")
+SEATS = ("insert", "nut", "self_tap", "press", "slip", "tapped")
+"""``"tapped"``: the thread part is bought with its own tapped hole (a motor's face): ``meta["hole_depth_mm"]`` is
+the depth of its thread; the screw reaches at least 1 d into it (a steel screw in an aluminium or steel thread:
+ISO 898-2 nuts are 0.8 d high) and stops ``TAPPED_TIP_MARGIN_MM`` short of its end."""
+TAPPED_ENGAGEMENT_MIN_D = 1.0
+TAPPED_TIP_MARGIN_MM = 0.3
+"""A screw's tip stops this far short of the end of a blind tapped thread (the last pitch of a tapped thread is
+incomplete) [mm]. Engineering default."""
 
 
 @dataclass(frozen=True)
@@ -116,6 +123,13 @@ class Fastener:
                     out.append(f"{self.label}: {self.size} x {self.length_mm:g} mm reaches "
                                f"{self.length_mm - self.grip_mm:.2f} mm past the nut's face; the nut needs "
                                f"{s.nut_height_mm + s.pitch_mm:.2f} mm (its height and one pitch)")
+            elif self.seat == "tapped":
+                depth = float(self.meta.get("hole_depth_mm", 0.0))
+                if not TAPPED_ENGAGEMENT_MIN_D * s.nominal_diameter_mm - 1e-9 <= self.engagement_mm \
+                        <= depth - TAPPED_TIP_MARGIN_MM + 1e-9:
+                    out.append(f"{self.label}: {self.engagement_mm:.2f} mm into a {depth:g} mm deep tapped thread "
+                               f"(needs {TAPPED_ENGAGEMENT_MIN_D * s.nominal_diameter_mm:.2f} mm, at most "
+                               f"{depth - TAPPED_TIP_MARGIN_MM:.2f} mm)")
             elif self.engagement_mm < s.engagement_min_mm - 1e-9:
                 out.append(f"{self.label}: thread engagement {self.engagement_mm:.2f} mm < 1.5 x {self.size} = "
                            f"{s.engagement_min_mm:.2f} mm")

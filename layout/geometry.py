@@ -150,7 +150,7 @@ def spool_dims(p: Params) -> SpoolDims:
     """One spool design for every motor, sized for the joint with the largest travel."""
     s = p.spool
     travel = max(spool_travel_turns(p, j) for j in range(p.joints.count))
-    turns = s.wraps + 2 * travel + s.groove_margin_turns
+    turns = s.wraps + 2 * travel + s.groove_margin_turns + s.tension_storage_turns   # storage: split spool
     groove = turns * s.groove_pitch_mm + p.cable.diameter_mm
     plate = plate_thickness_mm(p)
     hub_bottom = plate + max(p.motor.pilot_height_mm - plate, 0.0) + 0.5
@@ -232,32 +232,6 @@ def motor_placements(p: Params) -> tuple[MotorPlacement, ...]:
 def bay_end_station_mm(p: Params) -> float:
     """Station of the bay guides: just behind the rear motor's frame."""
     return motor_placements(p)[0].s_mm + p.motor.frame_size_mm / 2 + p.guides.min_bend_radius_mm / 2
-
-
-@dataclass(frozen=True)
-class Fixing:
-    """A screw through the hull wall into an internal part: point on the hull's inner surface and the
-    outward unit normal there (body frame, mm). The hull drills a clearance hole; the part has a tab there."""
-    point_mm: tuple[float, float, float]
-    normal: tuple[float, float, float]
-    part: str
-
-
-def mount_fixings_mm(p: Params) -> tuple[Fixing, ...]:
-    """Two side screws per motor mount, at the mount plate's mid-height, at the motor's station."""
-    d = spool_dims(p)
-    out = []
-    for mp in motor_placements(p):
-        z = mp.z_face_mm + d.plate_mm / 2
-        a = float(naca_half_width_mm(p, mp.s_mm)) - p.hull.wall_thickness_mm
-        b = float(half_height_mm(p, mp.s_mm)) - p.hull.wall_thickness_mm
-        y = interior_half_width_at_height_mm(p, mp.s_mm, z)
-        for side in (+1, -1):
-            # outward normal of the inner ellipse (y/a)^2 + (z/b)^2 = 1 at (y, z)
-            ny, nz = side * y / a**2, z / b**2
-            norm = math.hypot(ny, nz)
-            out.append(Fixing((mp.x_mm, side * y, z), (0.0, ny / norm, nz / norm), f"motor_mount_{mp.joint + 1}"))
-    return tuple(out)
 
 
 # ----------------------------------------------------------------------------------------------- cable routes

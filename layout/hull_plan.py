@@ -34,6 +34,8 @@ from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L
 from swiftfin.layout.fastening import Fastener
+from swiftfin.layout.joints import joint_hardware
+from swiftfin.layout.mount_plan import mount_fixings_mm
 
 SPLICE_LENGTH_MM = 10.0      # splice tab length on each side of a station cut
 SPLICE_Y_FRACTION = 0.7      # splice screws enter the skin at this fraction of the inner half-width off the centre
@@ -125,7 +127,7 @@ def bed_rotation_deg(p: Params, size: tuple[float, float, float]) -> float | Non
 
 def _split_stations(p: Params, seg: L.Segment, n: int) -> list[float]:
     """n-1 cut stations, near equal spacing, moved away from mount fixings (screw + splice tab)."""
-    fix = [-f.point_mm[0] for f in L.mount_fixings_mm(p)]
+    fix = [-f.point_mm[0] for f in mount_fixings_mm(p)]
     keep = SPLICE_LENGTH_MM + p.hull.screw_diameter_mm + 3.0
     out = []
     for i in range(1, n):
@@ -263,7 +265,6 @@ class SeamFeature:
 def _seam_range(p: Params, pc: HullPiece) -> tuple[float, float]:
     """Stations [lo, hi] the features' centres may take: out of the bulkheads and the tail plug, and the feature
     out of the swing of the link behind."""
-    from swiftfin.layout.joints import joint_hardware
     t = p.hull.bulkhead_thickness_mm
     r = max(seam_screw_radius_mm(p), seam_dowel_radius_mm(p))
     e = BOSS_OVERLAP_MM    # a boss reaches this far into a bulkhead (solids that overlap fuse cleanly; tangent ones

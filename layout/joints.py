@@ -1,5 +1,6 @@
-"""Joint hardware as numbers: every dimension a joint link and its parent's clevis share (mm, deg), and the
-designs whose links cannot be built. No CAD kernel: the design loader and the rules use it on every command.
+"""Joint hardware as numbers: every dimension a joint link and its parent's clevis share (mm, deg), the designs
+whose links cannot be built. No CAD kernel: the design loader
+and the rules use it on every command.
 
 The geometry these numbers describe is documented in :mod:`swiftfin.cad.link`, which makes the solids.
 """
@@ -8,6 +9,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from swiftfin.catalogues.fasteners import ScrewSize, dowel, fastener, screw_sizes
 from swiftfin.core.errors import UserError
 from swiftfin.core.params import Problem
 from swiftfin.core.schema import Params
@@ -18,7 +20,61 @@ BLOCK_SPAN_DEG = 30.0         # angular width of each parent stop block (reduced
 GROOVE_LEAD_DEG = 5.0         # groove starts this far ahead of the most-wrapped tangent point
 WRAP_MARGIN_DEG = 15.0        # groove continues this far past the least-wrapped tangent point to the anchor
 MIN_WRAP_MARGIN_DEG = 3.0     # refuse a design whose anchor cannot sit at least this far past it
-FLARE_EXTRA_DEG = 2.0         # pass-through wedge opens this much beyond the stop angle
+FLARE_EXTRA_DEG = 2.0         # the incoming cable's hole fans this much beyond the stop angle each way
+PIN_END_GAP_MM = 0.3          # a hinge pin's outer end stops this short of its plug's insert pocket
+PIN_PROTRUDE_MAX_MM = 1.0     # a pin may reach this far past its lug's outer face into the plug boss
+BORE_OVERRUN_MM = 0.5         # fastener cutters run this far past a pin's ends (cad.fastening.OVERCUT_MM)
+ROW_MARGIN_MM = 0.3           # flange screw heads keep this from the link's own features and the parent's swing
+
+
+@dataclass(frozen=True)
+class CableCrossing:
+    """A cable of a joint behind crossing joint j's hinge line on its axis (body frame at rest, mm). ``dir_in``: unit
+    vector from the crossing toward the route's previous point (fixed in the parent, so in the link's frame it swings
+    by -/+ the stop angle); ``dir_out``: toward the route's next point (fixed in the link)."""
+    route_joint: int                  # 0-based joint the cable drives
+    side: int
+    point_mm: tuple
+    dir_in: tuple
+    dir_out: tuple
+
+
+@dataclass(frozen=True)
+class HingePin:
+    """One of a hinge's two pins: an ISO 8734 dowel pressed in the link's blind bore (printed ``ream_stock`` under
+    size, not reamed: 0.15 mm interference), turning in the parent's lug bore (line-reamed to H7), its outer end
+    covered by a set screw plug in a heat-set insert in a boss on the lug's outer face (z in mm)."""
+    where: str                        # "lower" | "upper"
+    length_mm: float
+    outer_z_mm: float                 # outer end (flush with the lug's outer face, or up to 1 mm past it)
+    sign: int                         # +1: the pin runs up from its outer end (lower pin), -1: down (upper pin)
+    lug_mm: tuple                     # (z lo, z hi) of the lug it turns in
+    link_mm: tuple                    # (z lo, z hi) of the link's knuckle it is pressed in
+    boss_mm: tuple                    # (z lo, z hi) of the plug boss on the lug's outer face
+    boss_radius_mm: float
+
+    @property
+    def inner_z_mm(self) -> float:
+        return self.outer_z_mm + self.sign * self.length_mm
+
+    def _overlap(self, span) -> float:
+        lo, hi = sorted((self.outer_z_mm, self.inner_z_mm))
+        return max(0.0, min(hi, span[1]) - max(lo, span[0]))
+
+    @property
+    def in_lug_mm(self) -> float:
+        """Bearing length: the pin inside its lug."""
+        return self._overlap(self.lug_mm)
+
+    @property
+    def in_link_mm(self) -> float:
+        """Press length: the pin inside the link."""
+        return self._overlap(self.link_mm)
+
+    @property
+    def boss_face_z_mm(self) -> float:
+        """The boss's outer face, where the plug enters."""
+        return self.boss_mm[0] if self.sign > 0 else self.boss_mm[1]
 
 
 @dataclass(frozen=True)
@@ -30,6 +86,7 @@ class JointHardware:
     stop_deg: float
     pitch_mm: float
     crossing_levels_mm: tuple         # z of the cables of the joints behind (on the hinge line)
+    crossings: tuple                  # CableCrossing of each of them
     own_levels_mm: tuple              # (z left cable, z right cable) on the sector
     z_knuckle_lo_mm: float
     z_window_lo_mm: float
@@ -37,7 +94,11 @@ class JointHardware:
     z_sector_hi_mm: float
     lower_lug_mm: tuple               # (z lo, z hi)
     upper_lug_mm: tuple
-    bore_radius_mm: float
+    pin_diameter_mm: float
+    bore_radius_mm: float             # the printed bores (link and lugs): pin - ream stock, from the pin records
+    pin_radial_play_mm: tuple         # (least, greatest) radial play of a pin in its lug's H7 bore
+    pins: tuple                       # HingePin lower, upper
+    plug_screw: str                   # catalogue size of the set screw plugs
     knuckle_radius_mm: float
     lug_radius_mm: float
     hole_diameter_mm: float           # pass-through / bulkhead holes (PTFE tube OD + clearance)
@@ -59,8 +120,10 @@ class JointHardware:
     flange_thickness_mm: float
     flange_half_width_mm: float
     flange_z_mm: tuple                # (z lo, z hi)
-    bolt_points_yz_mm: tuple          # ((y, z), ...) bolt axes along x
-    bolt_hole_diameter_mm: float
+    flange_keep_out_mm: tuple         # ((z lo, z hi, radius), ...): no flange within radius of the axis there
+    bolt_points_yz_mm: tuple          # ((y, z), ...) flange screw axes along x (heads on the flange's front face)
+    bolt_hole_diameter_mm: float      # the insert hole of a flange screw in the child's bulkhead
+    flange_screw: str                 # catalogue size
     cable_diameter_mm: float
 
     @property
@@ -82,8 +145,59 @@ def joint_hardware(p: Params, j: int) -> JointHardware:
 
 def joint_link_problems(p: Params) -> list[Problem]:
     """Designs the schema and :func:`swiftfin.layout.geometry.layout_problems` accept but whose joint links cannot be built
-    (tendon wrap, stop blocks or flange bolts without room). Meant to be joined to the layout problems."""
+    (tendon wrap, stop blocks, flange screws or hinge pins without room). Meant to be joined to the layout problems."""
     return [pr for j in range(1, p.joints.count + 1) for pr in _joint_hardware(p, j)[1]]
+
+
+def _unit(v) -> tuple:
+    n = math.sqrt(sum(c * c for c in v))
+    return tuple(c / n for c in v)
+
+
+def cable_crossings(p: Params, j: int) -> tuple[CableCrossing, ...]:
+    """The routes of the joints behind joint j where they cross its hinge line, with the directions they leave it."""
+    x = -L.joint_stations_mm(p)[j - 1]
+    out = []
+    for r in L.cable_routes(p):
+        if r.joint < j:
+            continue
+        pts = r.points_mm
+        k = next(i for i, q in enumerate(pts) if abs(q[0] - x) < 1e-6 and abs(q[1]) < 1e-9)
+        a, b, c = pts[k - 1], pts[k], pts[k + 1]
+        out.append(CableCrossing(r.joint, r.side, b, _unit([u - v for u, v in zip(a, b)]),
+                                 _unit([u - v for u, v in zip(c, b)])))
+    return tuple(sorted(out, key=lambda cr: cr.point_mm[2]))
+
+
+def plug_screw_size(pin_diameter_mm: float) -> ScrewSize | None:
+    """The smallest thread whose insert's hole clears the pin, so that the reamer passes the empty pocket when the
+    two lug bores are line-reamed in one pass (the insert goes in after)."""
+    return next((s for s in screw_sizes() if s.insert_hole_mm > pin_diameter_mm + 0.1), None)
+
+
+def _pin(where: str, d: float, lug: tuple, link_span: tuple, inner_limit: float, plug: ScrewSize,
+         boss_r: float, problems: list, j: int) -> HingePin:
+    """The longest catalogue pin from its lug's outer face (or up to PIN_PROTRUDE_MAX_MM past it) to
+    ``inner_limit`` in the link; the plug boss holds the insert's pocket beyond the pin's end."""
+    sign = 1 if where == "lower" else -1
+    face = lug[0] if sign > 0 else lug[1]
+    room = sign * (inner_limit - face)
+    pin = dowel(d)
+    length = pin.length_at_most(room + PIN_PROTRUDE_MAX_MM)
+    if length is None:
+        problems.append(Problem("joints.link_thickness_mm", None,
+                                f"joint {j}: no {d:g} mm dowel fits the {where} hinge ({room:.1f} mm of room)"))
+        length = pin.lengths_mm[0]
+    past = max(0.0, length - room)              # how far the pin reaches past the lug's outer face
+    outer = face - sign * past
+    boss_h = past + PIN_END_GAP_MM + plug.insert_pocket_depth_mm
+    boss = (face - boss_h, face) if sign > 0 else (face, face + boss_h)
+    hp = HingePin(where, float(length), outer, sign, tuple(lug), tuple(link_span), boss, boss_r)
+    if hp.in_link_mm < d - 1e-9:
+        problems.append(Problem("joints.link_thickness_mm", None,
+                                f"joint {j}: the {where} pin is pressed only {hp.in_link_mm:.1f} mm into the link "
+                                f"(needs its diameter, {d:g} mm); use a thicker link plate"))
+    return hp
 
 
 def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
@@ -95,20 +209,39 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     x = -L.joint_stations_mm(p)[j - 1]
     g2 = L.joint_gaps_mm(p)[j - 1] / 2
     th = math.degrees(L.joint_stop_angles_rad(p)[j - 1])
+    thr = math.radians(th)
     P = L.tendon_level_pitch_mm(p)
-    crossing = tuple(sorted(L.tendon_level_mm(p, k, s) for k in range(j, n) for s in (1, -1)))
+    crossings = cable_crossings(p, j)
+    crossing = tuple(cr.point_mm[2] for cr in crossings)
     own = (L.tendon_level_mm(p, j - 1, 1), L.tendon_level_mm(p, j - 1, -1))
     z_sec_lo, z_sec_hi = own[1] - P / 2, own[0] + P / 2
     hole_d = p.guides.ptfe_tube_od_mm + 2 * cs
+    hr = hole_d / 2
     web = L.MIN_WEB_LINES * lw
     # the window's floor lies a web below the lowest pass-through hole (the arm's underside is that floor)
-    z_win_lo = (crossing[0] - hole_d / 2 - web) if crossing else z_sec_lo
+    z_win_lo = (crossing[0] - hr - web) if crossing else z_sec_lo
     tk = p.joints.link_thickness_mm
     z_k0 = z_win_lo - tk
     lower_lug = (z_k0 - cs - tk, z_k0 - cs)
     upper_lug = (z_sec_hi + cs, z_sec_hi + cs + tk)
-    rb = p.joints.pin_diameter_mm / 2 + cs
-    rk = rb + max(2.0, 4 * lw)
+    # --- hinge pins: pressed in the link, turning in the lugs' line-reamed bores, plugged at the outer ends
+    d = p.joints.pin_diameter_mm
+    pin = dowel(d)
+    rb = (d - pin.ream_stock_mm) / 2
+    rk = d / 2 + cs + max(2.0, 4 * lw)
+    rl = rk
+    plug = plug_screw_size(d)
+    if plug is None:
+        problems.append(Problem("joints.pin_diameter_mm", d, f"no insert in catalogues/fasteners.toml has a hole wider "
+                                                             f"than a {d:g} mm pin (the line reamer must pass it)"))
+        plug = screw_sizes()[-1]
+    boss_r = max(rl, plug.insert_boss_od_mm(lw) / 2)
+    # blind link bores end a web short of the nearest pass-through hole (the cutters overrun the pin's end)
+    z_bore_lo = min(z_win_lo, crossing[0] - hr - web) if crossing else z_win_lo
+    z_bore_hi = max(z_sec_lo, crossing[-1] + hr + web) if crossing else z_sec_lo
+    pins = (_pin("lower", d, lower_lug, (z_k0, z_bore_lo), z_bore_lo - BORE_OVERRUN_MM, plug, boss_r, problems, j),
+            _pin("upper", d, upper_lug, (z_bore_hi, z_sec_hi), z_bore_hi + BORE_OVERRUN_MM, plug, boss_r, problems, j))
+    # --- tendon sector
     dc = p.cable.diameter_mm
     rg = dc / 2 + cs / 2
     m = p.joints.tendon_moment_arm_mm
@@ -137,6 +270,7 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
             f"({aT_max:.1f} deg) before it reaches the child's bulkhead (gap {2 * g2:.1f} mm, moment arm {m:g} mm): "
             f"the anchor fits up to {a_lim:.1f} deg, needs {aT_max + th + MIN_WRAP_MARGIN_DEG:.1f} deg; use a "
             f"smaller moment arm (the wrap then fits in the gap) or move the joints"))
+    # --- hard stops
     beta = TONGUE_HALF_DEG
     rt = rk + 2.5
     rbo = rt + 1.0
@@ -148,33 +282,55 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
         problems.append(Problem("joints.stop_margin_deg", p.joints.stop_margin_deg,
                                 f"joint {j}: no room for the hard-stop blocks at a {th:.1f} deg stop angle "
                                 f"(gap {2 * g2:.1f} mm); use a smaller stop angle"))
-    arm = max(rk, hole_d / 2 + 2.5)
+    # --- arm: wide enough that the holes leaving along the routes keep a web to its sides at the flange
+    y_exit = [abs(cr.point_mm[1] + cr.dir_out[1] * g2 / max(abs(cr.dir_out[0]), 1e-9)) for cr in crossings]
+    arm = max(rk, hr + 2.5, max(y_exit, default=0.0) + hr + web)
+    if arm * math.sin(thr) > g2 - ca:
+        problems.append(Problem("joints.stations_fraction", list(p.joints.stations_fraction),
+                                f"joint {j}: the link's arm ({arm:.1f} mm half-width, widened for the cables that "
+                                f"leave the hinge at an angle) reaches the parent's rear face at the stop angle"))
+    # --- flange: screws from its front face into inserts in the child's front bulkhead (see swiftfin.layout.link_plan)
     tf = max(1.5, min(3.0, 0.5 * g2))
-    bolt_d = p.hull.screw_diameter_mm + 2 * cs
-    e = bolt_d / 2 + 1.5
-    fz = (z_win_lo, z_sec_hi)
-    # flange half-width: bolts clear of the pass-through holes, inside the child's bulkhead, and the
-    # flange's corners must not reach the parent's rear bulkhead plane (x + g2) at the stop angle
-    thr = math.radians(th)
+    s = fastener(p.hull.screw_diameter_mm)
+    head_r = s.head_diameter_mm / 2
+    keep_lo = rbo + ca                        # the parent's stop blocks and lower lug sweep within this radius
+    keep_hi = max(rl, boss_r) + ca            # the upper lug and its plug boss
+    y_s = keep_lo + head_r + ROW_MARGIN_MM
+    e_z = head_r + ROW_MARGIN_MM              # a row's head clears the link's features above/below it by the margin
+    split_keep = s.insert_hole_mm / 2 + s.insert_wall_min_mm
+    z_lo = min((z_k0 + z_win_lo) / 2, -split_keep)
+    z_hi = z_sec_lo - e_z                     # in the window under the sector, where the driver's path is clear
+    if z_hi < split_keep or z_hi - z_lo < 2 * e_z:
+        z_hi = max(z_sec_hi + e_z, split_keep)   # else above the sector, in an ear beside the upper lug
+    fz = (min(z_lo - e_z, z_win_lo), max(z_hi + e_z, z_sec_hi))
+    keep_out = ((fz[0] - 1.0, z_win_lo, keep_lo), (z_sec_hi, fz[1] + 1.0, keep_hi))
+    w_f = y_s + max(head_r, s.clearance_hole_mm / 2 + web) + ROW_MARGIN_MM
+    # the flange's corners must not reach the parent's rear bulkhead plane (x + g2) at the stop angle, nor the heads
     w_rot = (g2 - ca + (g2 - tf) * math.cos(thr)) / max(math.sin(thr), 1e-9)
+    head_rot = (y_s + head_r) * math.sin(thr) - (g2 - tf - s.head_height_mm) * math.cos(thr)
     s_bh = -x + g2 + p.hull.bulkhead_thickness_mm / 2
-    w_in = min(L.interior_half_width_at_height_mm(p, s_bh, z) for z in (fz[0] + e, fz[1] - e)) - e
-    w_f = min(max(arm + 2 * e, 12.0), w_rot, w_in)
-    if w_f - e < hole_d / 2 + bolt_d / 2 + 0.8:
+    need_in = y_s + split_keep
+    room_in = min(L.interior_half_width_at_height_mm(p, s_bh, z) for z in (z_lo, z_hi))
+    w_out = min(L.interior_half_width_at_height_mm(p, -x + g2, z) + p.hull.wall_thickness_mm for z in fz)
+    if w_f > min(w_rot, w_out) or head_rot > g2 - ca or need_in > room_in:
         problems.append(Problem("hull.screw_diameter_mm", p.hull.screw_diameter_mm,
-                                f"joint {j}: no room for the link's flange bolts beside the cable holes "
-                                f"(flange half-width {w_f:.1f} mm inside the child's bulkhead)"))
-    bolts = tuple((sy * (w_f - e), zz) for sy in (1, -1) for zz in (fz[0] + e, fz[1] - e))
+                                f"joint {j}: no room for the link's flange screws outside the parent's swing "
+                                f"(flange half-width {w_f:.1f} mm; the parent's face allows {w_rot:.1f} mm, the "
+                                f"child's skin {w_out:.1f} mm; the inserts need {need_in:.1f} mm inside the child's "
+                                f"bulkhead, which has {room_in:.1f} mm)"))
+    bolts = tuple((sy * y_s, zz) for sy in (1, -1) for zz in (z_lo, z_hi))
     return JointHardware(
-        joint=j, x_mm=x, gap_half_mm=g2, stop_deg=th, pitch_mm=P, crossing_levels_mm=crossing,
+        joint=j, x_mm=x, gap_half_mm=g2, stop_deg=th, pitch_mm=P, crossing_levels_mm=crossing, crossings=crossings,
         own_levels_mm=own, z_knuckle_lo_mm=z_k0, z_window_lo_mm=z_win_lo, z_sector_lo_mm=z_sec_lo,
-        z_sector_hi_mm=z_sec_hi, lower_lug_mm=lower_lug, upper_lug_mm=upper_lug, bore_radius_mm=rb,
-        knuckle_radius_mm=rk, lug_radius_mm=rk, hole_diameter_mm=hole_d, sector_radius_mm=R_s,
+        z_sector_hi_mm=z_sec_hi, lower_lug_mm=lower_lug, upper_lug_mm=upper_lug, pin_diameter_mm=d,
+        bore_radius_mm=rb, pin_radial_play_mm=pin.radial_play_mm(), pins=pins, plug_screw=plug.name,
+        knuckle_radius_mm=rk, lug_radius_mm=rl, hole_diameter_mm=hole_d, sector_radius_mm=R_s,
         groove_major_mm=R_t, groove_minor_mm=rg, sector_front_deg=front, tangent_deg=(tang[1], tang[-1]),
         groove_start_deg=g_start, anchor_deg=anchor, anchor_radius_mm=ra, anchor_hole_diameter_mm=anchor_d,
         cable_hole_diameter_mm=dc + 2 * cs, tongue_half_deg=beta, tongue_radius_mm=rt, block_span_deg=span,
         block_outer_radius_mm=rbo, arm_half_width_mm=arm, flange_thickness_mm=tf, flange_half_width_mm=w_f,
-        flange_z_mm=fz, bolt_points_yz_mm=bolts, bolt_hole_diameter_mm=bolt_d, cable_diameter_mm=dc), problems
+        flange_z_mm=fz, flange_keep_out_mm=keep_out, bolt_points_yz_mm=bolts, bolt_hole_diameter_mm=s.insert_hole_mm,
+        flange_screw=s.name, cable_diameter_mm=dc), problems
 
 
 def all_joint_hardware(p: Params) -> tuple[JointHardware, ...]:

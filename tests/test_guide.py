@@ -167,6 +167,40 @@ def test_screw_holes_miss_the_channels():
                 assert dist.min() > ch.diameter_mm / 2 + hole_r, (b.label, ch.joint, ch.side)
 
 
+@pytest.fixture(scope="session")
+def holed_guides():
+    """The guides as built with their fastener holes (the registry's family function)."""
+    from swiftfin.cad.registry import family_function
+    return family_function("guide")(Params())
+
+
+def test_guide_screws_on_the_solids(holed_guides):
+    """Each guide screw: a catalogue length that fills its post's insert (>= 1.5 d), the clearance hole open along
+    its axis through the guide, two lines of wall round that hole (no channel broken into), the head's seat (the
+    top face, or a counterbore's floor) solid under the head and open above it."""
+    from build123d import Vector
+    from swiftfin.catalogues.fasteners import fastener
+    from swiftfin.cad.fastening import all_fasteners
+    p = Params()
+    lw = p.print.line_width_mm
+    solids = {g.label: g.solid for g in holed_guides}
+    screws = [f for f in all_fasteners(p) if f.label.startswith("guide_")]
+    assert {f.head_part for f in screws} == set(solids)
+    for f in screws:
+        s = fastener(f.size)
+        assert not f.problems() and f.engagement_mm >= s.engagement_min_mm
+        g = solids[f.head_part]
+        head = np.asarray(f.head_mm)
+        for u in np.linspace(0.2, f.grip_mm - 0.2, 9):
+            q = head + u * np.asarray(f.axis)
+            assert not g.is_inside(Vector(*q)), (f.label, u)
+            for a in np.linspace(0, 2 * math.pi, 12, endpoint=False):
+                w = q + (s.clearance_hole_mm / 2 + 2 * lw) * np.array([math.cos(a), math.sin(a), 0.0])
+                assert g.is_inside(Vector(*w)), (f.label, u, a)
+        rim = head + (s.clearance_hole_mm / 2 + 0.4) * np.array([1.0, 0.0, 0.0])
+        assert g.is_inside(Vector(*(rim + [0, 0, -0.1]))) and not g.is_inside(Vector(*(rim + [0, 0, 0.1])))
+
+
 def test_guides_inside_the_hull(guides):
     p = Params()
     c = p.print.clearance_assembly_mm
@@ -216,8 +250,10 @@ def test_bay_guide_seat_and_notch():
     bay = guide_blocks(p)[-1]
     rear = L.motor_placements(p)[0]
     plate_top = rear.z_face_mm + L.plate_thickness_mm(p)
-    assert bay.seat_mm == pytest.approx(plate_top + p.motor.mount_screw_diameter_mm + p.print.clearance_assembly_mm
-                                        + 2 * p.export.mesh_tolerance_mm)
+    from swiftfin.layout.mount_plan import motor_screw_fit
+    fit = motor_screw_fit(p)
+    assert bay.seat_mm == pytest.approx(plate_top + fit.spot_face_mm + fit.head_height_mm
+                                        + p.print.clearance_assembly_mm + 2 * p.export.mesh_tolerance_mm)
     assert bay.notch_mm is not None and bay.notch_mm[1] == bay.seat_mm
     assert bay.z_mm[0] < bay.seat_mm
     assert all(x > bay.notch_mm[0] for x, _ in bay.screw_points_mm)

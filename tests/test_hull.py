@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from swiftfin.layout import geometry as L
+from swiftfin.layout.mount_plan import mount_fixings_mm
 from swiftfin.cad.fin import make_caudal_fin
 from swiftfin.cad.hull import (bed_rotation_deg, flooded, hull_pieces, hull_section_semi_axes_mm,
                                make_hull_segments, nose_cap, piece_parts, piece_solid)
@@ -190,7 +191,7 @@ def test_flooded_segments_have_vents_top_and_bottom_and_the_head_has_none(hull_p
 
 def test_mount_fixing_holes_go_through_the_wall(hull_parts):
     t = P.hull.wall_thickness_mm
-    fixings = L.mount_fixings_mm(P)
+    fixings = mount_fixings_mm(P)
     assert len(fixings) == 2 * P.joints.count
     for f in fixings:
         solid, _ = _part_at(hull_parts, -f.point_mm[0], f.point_mm[2])

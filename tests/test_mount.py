@@ -1,5 +1,6 @@
-"""Motor mounts: hole pattern and pilot on the motor placement, plate inside the hull, tabs on the fixings,
-posts under the guides."""
+"""Motor mounts: hole pattern and pilot on the motor placement, plate inside the hull, wall screws into inserts in
+bosses (pockets inside material, nothing through the print face), the wall screws' loads against their capacity,
+the motor's screws reaching its thread, posts with inserts under the guides."""
 from __future__ import annotations
 
 import math
@@ -10,9 +11,12 @@ from build123d import Vector
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
 from swiftfin.layout import geometry as L
-from swiftfin.cad.bought import pilot_hole_diameter_mm
+from swiftfin.catalogues.fasteners import fastener
+from swiftfin.cad.fastening import all_fasteners
 from swiftfin.cad.guide import guide_blocks
-from swiftfin.cad.mount import make_motor_mounts, mount_numbers, mount_solid
+from swiftfin.cad.mount import mount_numbers, mount_solid
+from swiftfin.cad.registry import family_function
+from swiftfin.layout.mount_plan import mount_wall_loads, motor_screw_fit, wall_fixings
 from swiftfin.core.params import replace_key
 from swiftfin.core.schema import Params
 from tests.golden_check import check_golden
@@ -21,7 +25,8 @@ from tests.test_spool import mesh_of
 
 @pytest.fixture(scope="session")
 def mounts():
-    return make_motor_mounts(Params())
+    """The mounts as built, with their fasteners' holes (the registry's family function)."""
+    return family_function("mount")(Params())
 
 
 def _cylinders(solid):
@@ -65,7 +70,7 @@ def test_hole_pattern_and_pilot_on_the_motor_axis(mounts):
         cyl = _cylinders(mm.solid)
         vertical = [(r, o) for r, o, d in cyl if abs(abs(d[2]) - 1) < 1e-9]
         holes = {(round(o[0] - mp.x_mm, 6), round(o[1], 6)) for r, o in vertical
-                 if abs(r - (m.mount_screw_diameter_mm / 2 + clr)) < 1e-9}
+                 if abs(r - fastener(m.mount_screw_diameter_mm).clearance_hole_mm / 2) < 1e-9}
         hs = m.hole_spacing_mm / 2
         assert holes == {(sx * hs, sy * hs) for sx in (1, -1) for sy in (1, -1)}
         pilot = [o for r, o in vertical if abs(r - (m.pilot_diameter_mm + clr) / 2) < 1e-9]
@@ -94,36 +99,174 @@ def test_inside_the_hull_with_clearance(mounts):
             assert L.interior_half_width_at_height_mm(p, -q.X, q.Z) - abs(q.Y) >= c - 0.05, mm.label
 
 
-def test_tabs_on_the_fixings(mounts):
-    """The wall screw's pilot hole lies on the fixing's normal through the fixing point, and the tab's end
-    stands off the wall by at least the assembly clearance and by little more."""
+def _probe_wall(solid, centre, direction, start_mm: float, step_mm: float = 0.25, limit_mm: float = 20.0) -> float:
+    """Solid met along ``direction`` from ``centre + start * direction`` before the first air [mm] (coarse steps,
+    then bisection to 0.01 mm)."""
+    d, c = np.asarray(direction, dtype=float), np.asarray(centre, dtype=float)
+
+    def solid_at(u):
+        return solid.is_inside(Vector(*(c + u * d)))
+
+    lo = start_mm
+    if not solid_at(lo):
+        return 0.0
+    hi = lo + step_mm
+    while solid_at(hi):
+        lo, hi = hi, hi + step_mm
+        if hi - start_mm > limit_mm:
+            return limit_mm
+    while hi - lo > 0.01:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if solid_at(mid) else (lo, mid)
+    return lo - start_mm
+
+
+def _pocket_walls(solid, f) -> tuple[float, float]:
+    """(least wall round the insert pocket of fastener ``f``, least wall under it to the print face z = z_bed),
+    measured on the solid by rays from the pocket's surface."""
+    s = f.screw
+    axis = np.asarray(f.axis)
+    e1 = np.cross(axis, [1.0, 0.0, 0.0] if abs(axis[0]) < 0.9 else [0.0, 0.0, 1.0])
+    e1 /= np.linalg.norm(e1)
+    e2 = np.cross(axis, e1)
+    r = s.insert_hole_mm / 2
+    least = math.inf
+    for u in np.linspace(0.2, s.insert_pocket_depth_mm - 0.2, 5):
+        c = f.point_mm(f.grip_mm + u)
+        assert not solid.is_inside(Vector(*c)), (f.label, "no pocket")
+        for a in np.linspace(0, 2 * math.pi, 16, endpoint=False):
+            d = math.cos(a) * e1 + math.sin(a) * e2
+            least = min(least, _probe_wall(solid, c, d, r + 0.01))
+    return least
+
+
+def test_wall_screw_inserts_fully_inside_material(mounts):
+    """Every wall screw's insert pocket is there, and the wall round it (measured by rays on the solid, the
+    direction of the print face included) is at least the insert maker's wall and two lines; no pocket reaches the
+    print face (the old pilot's floor thinned to nothing there)."""
     p = Params()
-    r_pilot = pilot_hole_diameter_mm(p.hull.screw_diameter_mm) / 2
-    for mm in mounts:
-        fixings = [f for f in L.mount_fixings_mm(p) if f.part == mm.label]
-        assert len(fixings) == 2
-        pilots = [(o, d) for r, o, d in _cylinders(mm.solid) if abs(r - r_pilot) < 1e-9]
-        for f in fixings:
-            assert any(_on_axis(f.point_mm, o, d) < 1e-6 and abs(abs(d @ f.normal) - 1) < 1e-9 for o, d in pilots)
-        for t in next(n for n in mount_numbers(p) if f"motor_mount_{n.joint}" == mm.label).tabs:
-            gap = float(np.linalg.norm(np.subtract(t.fixing_point_mm, t.axis_end_mm)))
-            assert p.print.clearance_assembly_mm <= gap < p.print.clearance_assembly_mm + 1.0
+    lw = p.print.line_width_mm
+    by_label = {m.label: m.solid for m in mounts}
+    screws = [f for f in all_fasteners(p) if "_wall_" in f.label]
+    assert len(screws) == 4 * p.joints.count
+    worst = math.inf
+    for f in screws:
+        solid = by_label[f.thread_part]
+        assert f.seat == "insert" and f.head_part.endswith("_upper") and not f.problems()
+        wall = _pocket_walls(solid, f)
+        need = max(2 * lw, f.screw.insert_wall_min_mm)
+        assert wall >= need - 0.03, (f.label, wall, need)
+        worst = min(worst, wall)
+        # straight down from the pocket's lowest line to the print face: solid all the way
+        n = next(q for q in mount_numbers(p) if f"motor_mount_{q.joint}" == f.thread_part)
+        for u in np.linspace(0.2, f.screw.insert_pocket_depth_mm - 0.2, 4):
+            c = f.point_mm(f.grip_mm + u)
+            low = c[2] - f.screw.insert_hole_mm / 2 / math.sqrt(1 - f.axis[2] ** 2) - 0.05   # the tilted pocket's wall
+            for z in np.linspace(n.z_bottom_mm + 0.02, low, 6):
+                assert solid.is_inside(Vector(c[0], c[1], z)), (f.label, u, z)
+    print(f"least wall round a wall-screw insert: {worst:.2f} mm")
 
 
-def test_posts_carry_the_guides(mounts):
+def test_wall_screws_carry_the_cables(mounts):
+    """The cables' design tension (pretension + what the motor can hold) through every mount's wall screws:
+    per screw, shear / bearing capacity + axial / pull-out capacity <= 1 in the hull's pad and in the mount's boss
+    (sustained-load allowables of catalogues/printed_strength.toml). Closed form for a mount whose cables leave
+    straight aft and level (mounts 2-4): the bolt group's shear is F/n aft plus M / (n dx) vertical."""
+    p = Params()
+    loads = {m.mount: m for m in mount_wall_loads(p)}
+    for ml in loads.values():
+        assert ml.usage <= 1.0 + 1e-9, (ml.mount, ml.usage)
+        assert len(ml.shear_n) == 4
+    ml = loads["motor_mount_3"]
+    fx = [f for f in wall_fixings(p) if f.mount == "motor_mount_3"]
+    F = -ml.force_n[0]
+    T = p.cable.pretension_n + p.motor.holding_torque_nm / (p.spool.drum_diameter_mm * 1e-3)
+    assert F == pytest.approx(2 * T, rel=1e-6)
+    dx = abs(fx[0].point_mm[0] - fx[1].point_mm[0]) / 2 * 1e-3
+    shear = math.hypot(F / 4, abs(ml.moment_nm[1]) / (4 * dx))
+    assert max(ml.shear_n) == pytest.approx(shear, rel=0.05)
+
+
+@pytest.fixture(scope="session")
+def rear_head_half():
+    """The upper half of the hull piece that holds motor_mount_1's wall screws, with its holes."""
+    from swiftfin.cad.fastening import apply_fasteners
+    from swiftfin.cad.hull import hull_pieces, piece_parts
+    p = Params()
+    x = wall_fixings(p)[0].point_mm[0]
+    pc = next(q for q in hull_pieces(p) if q.s_start_mm <= -x <= q.s_end_mm)
+    return next(s for s in apply_fasteners(p, piece_parts(p, pc)) if s.label.endswith("_upper"))
+
+
+def test_wall_screw_heads_sunk_in_the_hull_pads(rear_head_half):
+    """On the hull's solid: the counterbore open over the head, the head's bearing floor (the pad under it) as thick as
+    the load needs (measured off the clearance hole), the clearance hole open through the pad."""
+    p = Params()
+    hull = rear_head_half.solid
+    for fx in wall_fixings(p):
+        f = next(q for q in all_fasteners(p) if q.label == fx.label)
+        if f.head_part != rear_head_half.label:
+            continue
+        s = f.screw
+        axis = np.asarray(f.axis)
+        assert not hull.is_inside(Vector(*f.point_mm(-0.3)))             # counterbore above the head
+        assert not hull.is_inside(Vector(*f.point_mm(fx.floor_mm / 2)))   # clearance hole
+        side = np.array([1.0, 0.0, 0.0])
+        off = s.clearance_hole_mm / 2 + 0.3
+        floor = _probe_wall(hull, np.asarray(f.head_mm) + off * side, axis, 0.01)
+        assert floor >= fx.floor_mm - 0.05, (f.label, floor, fx.floor_mm)
+        # the pad stands the assembly gap off the mount's boss face
+        assert f.grip_mm == pytest.approx(fx.floor_mm + p.print.clearance_assembly_mm
+                                          + 2 * p.export.mesh_tolerance_mm)
+
+
+def test_motor_screws_reach_the_motors_thread(mounts):
+    """The NEMA screws: a catalogue length, the head on its spot face (solid under it, air over it), the clearance
+    hole through the plate, the tip in the motor's tapped hole between 1 d deep and the thread's end less the
+    margin (measured from the motor's face on the built motor)."""
+    from swiftfin.cad.bought import make_bought_parts
+    from swiftfin.layout.fastening import TAPPED_TIP_MARGIN_MM
+    p = Params()
+    motors = {b.label: b.solid for b in make_bought_parts(p) if b.label.startswith("motor_")}
+    by_label = {m.label: m.solid for m in mounts}
+    fit = motor_screw_fit(p)
+    screws = [f for f in all_fasteners(p) if "_motor_" in f.label and f.label.startswith("motor_mount_")]
+    assert len(screws) == 4 * p.joints.count
+    for f in screws:
+        assert f.seat == "tapped" and not f.problems()
+        assert f.length_mm in f.screw.lengths_mm
+        mount, motor = by_label[f.head_part], motors[f.thread_part]
+        face = motor.bounding_box().max.Z - p.motor.shaft_length_mm     # the shaft stands on the face
+        tip = np.asarray(f.tip_mm)
+        depth = face - tip[2]
+        assert f.screw.nominal_diameter_mm - 1e-9 <= depth <= p.motor.mount_hole_depth_mm - TAPPED_TIP_MARGIN_MM + 1e-9
+        assert motor.is_inside(Vector(*(tip + [0, 0, 0.1])))             # the tip is in the motor's body
+        head = np.asarray(f.head_mm)
+        rim = head + np.array([f.screw.clearance_hole_mm / 2 + 0.3, 0, 0])
+        assert mount.is_inside(Vector(*(rim - [0, 0, 0.05]))) and not mount.is_inside(Vector(*(rim + [0, 0, 0.05])))
+        assert not mount.is_inside(Vector(*(head - [0, 0, fit.grip_mm / 2])))
+
+
+def test_posts_carry_the_guides_on_inserts(mounts):
+    """Each guide screw point has a post whose top is the guide's underside, with the guide screw's insert pocket
+    in it: the pocket open on the axis, the insert maker's wall round it (measured on the solid)."""
     p = Params()
     blocks = guide_blocks(p)
-    r_pilot = pilot_hole_diameter_mm(p.guides.screw_diameter_mm) / 2
+    by_label = {m.label: m.solid for m in mounts}
+    screws = {(round(f.head_mm[0], 6), round(f.head_mm[1], 6)): f for f in all_fasteners(p)
+              if f.label.startswith("guide_")}
     for b in blocks:
-        mm = next(m for m in mounts if m.label == b.mount)
-        pilots = [o for r, o, d in _cylinders(mm.solid) if abs(r - r_pilot) < 1e-9 and abs(abs(d[2]) - 1) < 1e-9]
+        mm = by_label[b.mount]
         for x, y in b.screw_points_mm:
-            assert any(math.hypot(o[0] - x, o[1] - y) < 1e-9 for o in pilots), (b.label, x, y)
-            # the post's top is the guide's underside: solid just below it, air just above
-            q = (x + 2 * r_pilot, y)
-            assert mm.solid.is_inside(Vector(q[0], q[1], b.seat_mm - 0.01))
-            assert not mm.solid.is_inside(Vector(q[0], q[1], b.seat_mm + 0.01))
-    assert {b.mount for b in blocks} == {m.label for m in mounts}
+            f = screws[(round(x, 6), round(y, 6))]
+            assert f.thread_part == b.mount and f.seat == "insert"
+            r = f.screw.insert_hole_mm / 2
+            q = (x + r + 0.3, y)
+            assert mm.is_inside(Vector(q[0], q[1], b.seat_mm - 0.01))
+            assert not mm.is_inside(Vector(q[0], q[1], b.seat_mm + 0.01))
+            wall = _pocket_walls(mm, f)
+            assert wall >= max(2 * p.print.line_width_mm, f.screw.insert_wall_min_mm) - 0.03, (f.label, wall)
+    assert {b.mount for b in blocks} <= {m.label for m in mounts}
 
 
 @pytest.mark.parametrize("changes", [
@@ -152,7 +295,7 @@ def test_print_orientation_puts_the_plate_on_the_bed(mounts):
                   and abs(abs(f.normal_at().Z) - 1) < 1e-9)
         xy = np.asarray(n.outline_xy_mm)
         outline = 0.5 * abs(np.dot(xy[:, 0], np.roll(xy[:, 1], 1)) - np.dot(xy[:, 1], np.roll(xy[:, 0], 1)))
-        holes = math.pi * (n.pilot_hole_diameter_mm**2 + 4 * n.motor_hole_diameter_mm**2) / 4
+        holes = math.pi * (n.pilot_hole_diameter_mm**2 + 4 * fastener(p.motor.mount_screw_diameter_mm).clearance_hole_mm**2) / 4
         assert bed > 0.95 * (outline - holes), mm.label
 
 
@@ -182,7 +325,8 @@ def test_drive_train_parts_keep_their_clearances(drive_train):
     stats = check_assembly(p, placed, contacts=tuple(CONTACTS) + meant)
     n = len(placed)
     assert stats["pairs"] + stats["contact_pairs"] == n * (n - 1) // 2
-    assert stats["contact_pairs"] == 4 + 4 + 3 + 1
+    # mount-motor, spool-motor, spool upper half-motor, spool upper half-lower half (4 each), exit guides, bay guide
+    assert stats["contact_pairs"] == 4 + 4 + 4 + 4 + 3 + 1
 
 
 def test_a_spool_moved_into_its_guide_is_caught(drive_train):

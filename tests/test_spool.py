@@ -11,7 +11,8 @@ from build123d import Vector
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 
 from swiftfin.layout import geometry as L
-from swiftfin.cad.spool import make_spools, spool_numbers, spool_solid
+from swiftfin.cad.registry import family_function
+from swiftfin.cad.spool import make_spools, ridge_width_mm, spool_fasteners, spool_numbers, spool_solid
 from swiftfin.core.errors import UserError
 from swiftfin.core.params import replace_key
 from swiftfin.core.schema import Params
@@ -26,8 +27,9 @@ def mesh_of(solid, tol: float) -> trimesh.Trimesh:
 
 @functools.lru_cache(maxsize=None)
 def default_spools() -> tuple:
-    """The default design's spools, built once per test session (shared with test_mount)."""
-    return tuple(make_spools(Params()))
+    """The default design's spools with their fastener holes (as the registry builds them), once per test session
+    (shared with test_mount)."""
+    return tuple(family_function("spool")(Params()))
 
 
 @pytest.fixture(scope="session")
@@ -56,19 +58,27 @@ def groove_volume_closed_form(n) -> float:
     return n.groove_turns * 2 * math.pi * rbar * a * math.sqrt(1 + tan_a**2)
 
 
-def test_one_spool_per_motor_on_its_shaft(spools):
+def test_two_halves_per_motor_on_its_shaft(spools):
     p = Params()
     d = L.spool_dims(p)
     motors = L.motor_placements(p)
-    assert [s.label for s in spools] == [f"spool_{j}" for j in range(1, len(motors) + 1)]
-    for s, mp in zip(spools, motors):
-        assert s.link == 0 and s.family == "spool" and s.printed
-        bb = s.solid.bounding_box()
-        assert (bb.min.X + bb.max.X) / 2 == pytest.approx(mp.x_mm, abs=1e-6)
-        assert (bb.min.Y + bb.max.Y) / 2 == pytest.approx(0.0, abs=1e-6)
-        assert bb.max.X - bb.min.X == pytest.approx(2 * d.flange_radius_mm, abs=1e-6)
-        assert bb.min.Z == pytest.approx(mp.z_face_mm + d.hub_bottom_mm, abs=1e-6)
-        assert bb.max.Z == pytest.approx(mp.z_face_mm + d.top_mm, abs=1e-6)
+    assert [s.label for s in spools] == [f"spool_{j}{h}" for j in range(1, len(motors) + 1) for h in ("", "_upper")]
+    for j, mp in enumerate(motors):
+        lower, upper = spools[2 * j], spools[2 * j + 1]
+        n = spool_numbers(p)[j]
+        for s in (lower, upper):
+            assert s.link == 0 and s.family == "spool" and s.printed
+            bb = s.solid.bounding_box()
+            assert (bb.min.X + bb.max.X) / 2 == pytest.approx(mp.x_mm, abs=1e-6)
+            assert (bb.min.Y + bb.max.Y) / 2 == pytest.approx(0.0, abs=1e-6)
+            assert bb.max.X - bb.min.X == pytest.approx(2 * d.flange_radius_mm, abs=1e-6)
+        assert lower.solid.bounding_box().min.Z == pytest.approx(mp.z_face_mm + d.hub_bottom_mm, abs=1e-6)
+        assert lower.solid.bounding_box().max.Z == pytest.approx(mp.z_face_mm + n.split_z_mm, abs=1e-6)
+        assert upper.solid.bounding_box().min.Z == pytest.approx(mp.z_face_mm + n.split_z_mm, abs=1e-6)
+        assert upper.solid.bounding_box().max.Z == pytest.approx(mp.z_face_mm + d.top_mm, abs=1e-6)
+        # the halves meet face to face on the split plane and do not overlap
+        common = lower.solid.intersect(upper.solid)
+        assert common is None or common.volume == pytest.approx(0.0, abs=1e-6)
 
 
 def test_valid_single_solid_watertight(spools):
@@ -82,30 +92,34 @@ def test_valid_single_solid_watertight(spools):
         assert mesh.volume == pytest.approx(s.solid.volume, abs=s.solid.area * tol)
 
 
-@pytest.mark.parametrize("label", [f"spool_{j}" for j in range(1, 5)])
+@pytest.mark.parametrize("label", [f"spool_{j}{h}" for j in range(1, 5) for h in ("", "_upper")])
 def test_golden(spools, label, update_golden):
     check_golden(label, next(s for s in spools if s.label == label).solid, update_golden)
 
 
 def test_drum_flanges_hub_volume_closed_form():
     n = spool_numbers(Params())[0]
-    blank = spool_solid(n, groove=False, anchors=False, bore=False, set_screw=False)
+    blank = spool_solid(n, groove=False, anchors=False, bore=False, set_screw=False, index=False)
     h = lambda z: z[1] - z[0]  # noqa: E731
     expected = math.pi * (n.hub_radius_mm**2 * h(n.hub_z_mm) + n.surface_radius_mm**2 * h(n.drum_z_mm)
                           + n.flange_radius_mm**2 * (h(n.lower_flange_z_mm) + h(n.upper_flange_z_mm)))
     assert blank.volume == pytest.approx(expected, rel=1e-9)
-    # hand-worked default: hub r 2.65 + 1.5 x 3 = 7.15 x 8, drum r 10 x 5.5075, flanges r 13 x 1.6 each
-    assert expected == pytest.approx(math.pi * (7.15**2 * 8 + 100 * 5.507488210540301 + 169 * 3.2), rel=1e-12)
+    lower = spool_solid(n, "lower", groove=False, anchors=False, bore=False, set_screw=False, index=False)
+    assert lower.volume == pytest.approx(expected - math.pi * (
+        n.surface_radius_mm**2 * (n.drum_z_mm[1] - n.split_z_mm) + n.flange_radius_mm**2 * h(n.upper_flange_z_mm)),
+        rel=1e-9)
 
 
-def test_bore_volume_is_the_d_profile():
+def test_bore_volume_is_the_d_profile_below_and_round_above():
+    """The lower half is keyed to the shaft's flat; the upper half turns on the round shaft (the tensioner)."""
     n = spool_numbers(Params())[0]
-    blank = spool_solid(n, groove=False, anchors=False, bore=False, set_screw=False)
-    bored = spool_solid(n, groove=False, anchors=False, bore=True, set_screw=False)
+    kw = dict(groove=False, anchors=False, set_screw=False, index=False)
     r, f = n.bore_radius_mm, n.flat_distance_mm
     a_d = math.pi * r * r - segment(r, f)[0]
-    length = n.upper_flange_z_mm[1] - n.hub_z_mm[0]
-    assert blank.volume - bored.volume == pytest.approx(a_d * length, rel=1e-7)
+    lo = spool_solid(n, "lower", bore=False, **kw).volume - spool_solid(n, "lower", bore=True, **kw).volume
+    up = spool_solid(n, "upper", bore=False, **kw).volume - spool_solid(n, "upper", bore=True, **kw).volume
+    assert lo == pytest.approx(a_d * (n.split_z_mm - n.hub_z_mm[0]), rel=1e-7)
+    assert up == pytest.approx(math.pi * r * r * (n.upper_flange_z_mm[1] - n.split_z_mm), rel=1e-7)
 
 
 @pytest.mark.parametrize("changes", [{}, {"spool.drum_diameter_mm": 30.0, "spool.wraps": 3.0}])
@@ -114,57 +128,181 @@ def test_groove_volume_pappus(changes):
     for k, v in changes.items():
         p = replace_key(p, k, v)
     n = spool_numbers(p)[0]
-    blank = spool_solid(n, groove=False, anchors=False, bore=False, set_screw=False)
-    grooved = spool_solid(n, groove=True, anchors=False, bore=False, set_screw=False)
-    assert blank.volume - grooved.volume == pytest.approx(groove_volume_closed_form(n), rel=1e-3)
+    blank = spool_solid(n, groove=False, anchors=False, bore=False, set_screw=False, index=False)
+    grooved = spool_solid(n, groove=True, anchors=False, bore=False, set_screw=False, index=False)
+    # the groove's round ends reach 0.15 mm past the drum into the flanges: 1-2e-3 of its volume
+    assert blank.volume - grooved.volume == pytest.approx(groove_volume_closed_form(n), rel=2e-3)
 
 
 def _faces(solid, kind: str):
     return [f for f in solid.faces() if f.geom_type.name == kind]
 
 
+def _lower(spools, j):
+    return next(s for s in spools if s.label == f"spool_{j}")
+
+
+def _upper(spools, j):
+    return next(s for s in spools if s.label == f"spool_{j}_upper")
+
+
 def test_bore_and_flat_measured_on_solid(spools):
     p = Params()
     m, clr = p.motor, p.print.clearance_sliding_mm
-    for s, mp in zip(spools, L.motor_placements(p)):
-        bore = []
-        for f in _faces(s.solid, "CYLINDER"):
-            c = BRepAdaptor_Surface(f.wrapped).Cylinder()
-            loc = c.Axis().Location()
-            if abs(c.Axis().Direction().Z()) > 1 - 1e-9 and math.hypot(loc.X() - mp.x_mm, loc.Y()) < 1e-6 \
-                    and c.Radius() < m.shaft_diameter_mm:
-                bore.append(c.Radius())
-        assert bore and all(r == pytest.approx((m.shaft_diameter_mm + clr) / 2, abs=1e-9) for r in bore)
-        flats = [f for f in _faces(s.solid, "PLANE") if abs(abs(f.normal_at().X) - 1) < 1e-9
-                 and abs(f.center().X - mp.x_mm) < m.shaft_diameter_mm]
-        assert len(flats) == 1
-        assert flats[0].center().X - mp.x_mm == pytest.approx(
-            m.shaft_diameter_mm / 2 - m.shaft_flat_depth_mm + clr / 2, abs=1e-9)
-        # the flat runs the whole bore
-        bb = flats[0].bounding_box()
-        assert bb.max.Z - bb.min.Z == pytest.approx(L.spool_dims(p).top_mm - L.spool_dims(p).hub_bottom_mm, abs=1e-6)
+    for n in spool_numbers(p):
+        x0 = n.axis_xy_mm[0]
+        for s in (_lower(spools, n.joint), _upper(spools, n.joint)):
+            bore = []
+            for f in _faces(s.solid, "CYLINDER"):
+                c = BRepAdaptor_Surface(f.wrapped).Cylinder()
+                loc = c.Axis().Location()
+                if abs(c.Axis().Direction().Z()) > 1 - 1e-9 and math.hypot(loc.X() - x0, loc.Y()) < 1e-6 \
+                        and c.Radius() < m.shaft_diameter_mm / 2 + 1:
+                    bore.append(c.Radius())
+            assert bore and all(r == pytest.approx((m.shaft_diameter_mm + clr) / 2, abs=1e-9) for r in bore)
+        # the lower half's flat faces the set screw, the whole height of the lower half
+        u = (math.cos(n.set_screw_angle_rad), math.sin(n.set_screw_angle_rad))
+        flats = [f for f in _faces(_lower(spools, n.joint).solid, "PLANE")
+                 if abs(f.normal_at().X * u[0] + f.normal_at().Y * u[1]) > 1 - 1e-9
+                 and math.hypot(f.center().X - x0, f.center().Y) < m.shaft_diameter_mm / 2]
+        assert 1 <= len(flats) <= 2           # the set screw's hole may cut it in two
+        for fl in flats:
+            c = fl.center()
+            assert (c.X - x0) * u[0] + c.Y * u[1] == pytest.approx(
+                m.shaft_diameter_mm / 2 - m.shaft_flat_depth_mm + clr / 2, abs=1e-9)
+        # the flat runs the whole lower half
+        assert min(fl.bounding_box().min.Z for fl in flats) == pytest.approx(n.z_face_mm + n.hub_z_mm[0], abs=1e-6)
+        assert max(fl.bounding_box().max.Z for fl in flats) == pytest.approx(n.z_face_mm + n.split_z_mm, abs=1e-6)
 
 
-def test_set_screw_and_anchor_holes_are_open(spools):
+def _at(n, r, angle, z):
+    return Vector(*n.to_body(r, angle, z))
+
+
+def test_set_screw_sits_in_a_nut_trap_with_two_perimeters_round_it(spools):
+    """Issue 12: a set screw cannot cut its own thread. The record is a set screw in a steel nut; on the solid the
+    hex trap is open at the declared place, the nut drops in from the hub's underside, and the hub keeps at
+    least two perimeters round the trap (toward the bore, the flange above and the hub's surface)."""
     p = Params()
-    for s, n in zip(spools, spool_numbers(p)):
-        x0, z0 = n.axis_xy_mm[0], n.z_face_mm
-        mid_wall = (n.bore_radius_mm + n.hub_radius_mm) / 2
-        # on the set screw's axis (toward the flat, +x): a hole; a quarter turn away: solid hub
-        assert not s.solid.is_inside(Vector(x0 + mid_wall, 0, z0 + n.set_screw_z_mm))
-        assert s.solid.is_inside(Vector(x0, mid_wall, z0 + n.set_screw_z_mm))
-        for angle in n.anchor_angles_rad:   # both lead up, out through the upper flange
-            z_out = n.upper_flange_z_mm
-            q = (x0 + n.anchor_radius_mm * math.cos(angle), n.anchor_radius_mm * math.sin(angle))
-            zf = z0 + sum(z_out) / 2
-            assert not s.solid.is_inside(Vector(q[0], q[1], zf))          # the hole through the flange
-            rot = angle + math.pi / 2
-            assert s.solid.is_inside(Vector(x0 + n.anchor_radius_mm * math.cos(rot),
-                                            n.anchor_radius_mm * math.sin(rot), zf))
-            # the radial leg opens into the groove at the helix height
-            zr = z0 + n.helix_z_mm(angle)
+    w = 2 * p.print.line_width_mm
+    recs = {f.label: f for f in spool_fasteners(p)}
+    for n in spool_numbers(p):
+        f = recs[f"spool_{n.joint}_set_screw"]
+        assert f.kind == "set_screw" and f.seat == "nut" and f.problems() == []
+        assert f.thread_part == f"spool_{n.joint}"
+        # its tip bears on the shaft's flat, along the flat's normal
+        tip = np.asarray(f.tip_mm)
+        a = n.set_screw_angle_rad
+        assert np.allclose(tip, n.to_body(n.shaft_flat_mm, a, n.set_screw_z_mm), atol=1e-9)
+        solid = _lower(spools, n.joint).solid
+        x_in, x_out = n.nut_trap_x_mm
+        x_mid, h = (x_in + x_out) / 2, n.nut_trap_half_width_mm
+        side = a + math.pi / 2
+        z = n.set_screw_z_mm
+        off = lambda dy, dz: Vector(*(np.asarray(n.to_body(x_mid, a, z + dz))  # noqa: E731
+                                      + dy * np.array([math.cos(side), math.sin(side), 0.0])))
+        assert not solid.is_inside(off(0.0, 0.0))                       # the nut's place
+        assert not solid.is_inside(off(0.8 * h, 0.0))                   # a hex corner, beyond the screw's hole
+        assert not solid.is_inside(off(0.0, -(z - n.hub_z_mm[0]) + 0.3))  # the drop slot, at the hub's underside
+        flats = p.spool.set_screw_diameter_mm and (x_out - x_in)         # trap depth along the screw
+        assert flats > 0
+        af = 2 * h * math.sqrt(3) / 2                                   # across flats
+        assert solid.is_inside(off(0.0, af / 2 + w - 0.05)) or z + af / 2 + w > n.hub_z_mm[1]
+        assert solid.is_inside(off(0.0, af / 2 + 0.3))                  # material above the nut
+        # two perimeters between the trap's inner face and the bore's flat; between its corner and the hub surface
+        assert x_in - n.flat_distance_mm >= w - 1e-9
+        assert n.hub_radius_mm - math.hypot(x_out, h) >= w - 1e-9
+        assert solid.is_inside(_at(n, x_in - 0.5 * w, a, z + 0.6 * af / 2))
+        # the screw's way out to the hub's surface is open (the key reaches it)
+        assert not solid.is_inside(_at(n, n.hub_radius_mm - 0.1, a, z))
+
+
+def test_ridges_are_at_least_one_line_wide_on_the_solid(spools):
+    """Issue 12: the groove's ridges were 0.34 mm. Walk up the drum surface (0.02 mm inside it) at several angles
+    of the built solid: every stretch of material between two groove turns is at least print.line_width_mm long."""
+    p = Params()
+    n = spool_numbers(p)[3]
+    assert n.ridge_width_mm >= p.print.line_width_mm
+    assert n.ridge_width_mm == pytest.approx(ridge_width_mm(p))
+    lo, up = _lower(spools, 4).solid, _upper(spools, 4).solid
+    r = n.surface_radius_mm - 0.02
+    dz = 0.01
+    z0 = n.cable_plane_mm - n.groove_pitch_mm * n.groove_turns / 2 + n.groove_pitch_mm
+    z1 = n.cable_plane_mm + n.groove_pitch_mm * n.groove_turns / 2 - n.groove_pitch_mm
+    found = []
+    for angle in [n.anchor_angles_rad[0] + da for da in (0.6, 1.5, 2.4, 3.3, 4.2, 5.1)]:   # off the anchors
+        zs = np.arange(z0, z1, dz)
+        inside = [(lo if z < n.split_z_mm else up).is_inside(_at(n, r, angle, z)) for z in zs]
+        runs, start = [], None
+        for z, ins in zip(zs, inside):
+            if ins and start is None:
+                start = z
+            if not ins and start is not None:
+                runs.append((start, z))
+                start = None
+        # whole ridges only: the split plane cuts the ridge it crosses into two feather edges (part edges)
+        # and the ones the sampled window cuts at its ends
+        ridges = [b - a for a, b in runs if not (a - 2 * dz < n.split_z_mm < b + 2 * dz) and a > zs[0] + dz / 2]
+        found += ridges
+    assert len(found) >= 6
+    # the surface chord of the groove at r - 0.02 is a hair narrower than at r: the ridge there a hair wider
+    assert min(found) >= p.print.line_width_mm - dz
+    assert min(found) == pytest.approx(n.ridge_width_mm, abs=0.05)
+
+
+def test_old_pitch_is_refused_with_the_ridge_it_leaves():
+    p = replace_key(Params(), "spool.groove_pitch_mm", 1.6)
+    with pytest.raises(UserError, match=r"ridges are 0.34 mm wide .* raise spool.groove_pitch_mm to at least 1.72"):
+        spool_numbers(p)
+
+
+def test_index_holes_and_crimp_seats_are_open(spools):
+    """Every vernier index hole is open through the upper half and into the lower half; the crimp seats are open
+    at both cable ends; the anchors' radial legs open into the groove."""
+    p = Params()
+    for n in spool_numbers(p):
+        lo, up = _lower(spools, n.joint).solid, _upper(spools, n.joint).solid
+        for a in n.index_angles_upper_rad:
+            for z in (n.split_z_mm + 0.3, (n.split_z_mm + n.upper_flange_z_mm[1]) / 2, n.upper_flange_z_mm[1] - 0.1):
+                assert not up.is_inside(_at(n, n.index_radius_mm, a, z))
+        for a in n.index_angles_lower_rad:
+            assert not lo.is_inside(_at(n, n.index_radius_mm, a, n.split_z_mm - 1.0))
+            assert lo.is_inside(_at(n, n.index_radius_mm, a, n.hub_z_mm[1] - 0.3))   # a blind pilot
+        # between two upper holes: solid
+        a_mid = (n.index_angles_upper_rad[0] + n.index_angles_upper_rad[1]) / 2
+        assert up.is_inside(_at(n, n.index_radius_mm, a_mid, n.split_z_mm + 1.0))
+        left, right = n.anchor_angles_rad
+        # upper crimp seat (top face) and the axial hole under it
+        assert not up.is_inside(_at(n, n.anchor_radius_mm + n.crimp_seat_diameter_mm / 2 - 0.1, left,
+                                    n.upper_flange_z_mm[1] - 0.1))
+        assert not up.is_inside(_at(n, n.anchor_radius_mm, left, (n.drum_z_mm[1] + n.upper_flange_z_mm[1]) / 2))
+        # lower: the axial hole through the lower flange and the crimp's channel down the hub's side
+        assert not lo.is_inside(_at(n, n.anchor_radius_mm, right, sum(n.lower_flange_z_mm) / 2))
+        assert not lo.is_inside(_at(n, n.anchor_radius_mm - n.crimp_seat_diameter_mm / 2 + 0.1, right,
+                                    sum(n.hub_z_mm) / 2))
+        for side, solid, angle in ((+1, up, left), (-1, lo, right)):
+            zr = n.helix_z_mm(angle)
+            assert (zr - n.split_z_mm) * side > n.groove_radius_mm        # on its own half
             rr = (n.anchor_radius_mm + n.root_radius_mm) / 2
-            assert not s.solid.is_inside(Vector(x0 + rr * math.cos(angle), rr * math.sin(angle), zr))
+            assert not solid.is_inside(_at(n, rr, angle, zr))
+
+
+def test_index_screw_record_and_the_crimp_table():
+    from swiftfin.catalogues.cable_parts import crimp_sleeve
+    p = Params()
+    recs = {f.label: f for f in spool_fasteners(p)}
+    for n in spool_numbers(p):
+        f = recs[f"spool_{n.joint}_index_screw"]
+        assert f.problems() == [] and f.kind == "cap_screw" and f.seat == "self_tap"
+        assert f.head_part == f"spool_{n.joint}_upper" and f.thread_part == f"spool_{n.joint}"
+        assert f.engagement_mm >= 1.5 * p.spool.index_screw_diameter_mm - 1e-9
+        # the pilot (1 mm past the tip) stays inside the lower half, two perimeters above the hub
+        assert f.tip_mm[2] - 1.0 - n.z_face_mm >= n.hub_z_mm[1] + 2 * p.print.line_width_mm - 1e-9
+        assert f.grip_mm == pytest.approx(n.upper_flange_z_mm[1] - n.index_recess_mm - n.split_z_mm)
+    c = crimp_sleeve(p.cable.diameter_mm)
+    assert c.bore_mm > p.cable.diameter_mm and c.crimped_outer_diameter_mm > p.cable.diameter_mm + 2 * 0.3
+    n = spool_numbers(p)[0]
+    assert n.crimp_seat_diameter_mm > n.anchor_hole_diameter_mm      # the sleeve cannot pull through
 
 
 def test_groove_meets_the_cable_routes():
@@ -184,19 +322,20 @@ def test_groove_meets_the_cable_routes():
         assert abs(n.wrap_between_rad / (2 * math.pi) - p.spool.wraps) <= 0.5 + 1e-9
 
 
-def test_print_orientation_puts_a_flange_face_on_the_bed(spools):
-    s = spools[0]
-    rx, ry, rz = s.print_rotation
+def test_print_orientation_puts_a_flat_face_on_the_bed(spools):
     from build123d import Axis
-    rotated = s.solid.rotate(Axis.X, rx).rotate(Axis.Y, ry).rotate(Axis.Z, rz)
-    zmin = rotated.bounding_box().min.Z
-    bed = [f for f in rotated.faces() if f.geom_type.name == "PLANE" and abs(f.center().Z - zmin) < 1e-6]
-    r_f = L.spool_dims(Params()).flange_radius_mm
-    assert sum(f.area for f in bed) > 0.9 * math.pi * r_f**2
+    n = spool_numbers(Params())[0]
+    for s, area in ((_upper(spools, 1), math.pi * n.flange_radius_mm**2 * 0.6),   # less the index ring
+                    (_lower(spools, 1), math.pi * n.surface_radius_mm**2 * 0.5)):
+        rx, ry, rz = s.print_rotation
+        rotated = s.solid.rotate(Axis.X, rx).rotate(Axis.Y, ry).rotate(Axis.Z, rz)
+        zmin = rotated.bounding_box().min.Z
+        bed = [f for f in rotated.faces() if f.geom_type.name == "PLANE" and abs(f.center().Z - zmin) < 1e-6]
+        assert sum(f.area for f in bed) > area
 
 
 @pytest.mark.parametrize("changes", [
-    {"spool.drum_diameter_mm": 30.0, "spool.wraps": 3.0},
+    {"spool.drum_diameter_mm": 26.0, "spool.wraps": 2.5},
     {"joints.count": 3, "joints.stations_fraction": (0.55, 0.65, 0.75)},
 ])
 def test_other_designs_build_valid_spools(changes):
@@ -206,14 +345,15 @@ def test_other_designs_build_valid_spools(changes):
     assert L.layout_problems(p) == []
     numbers = spool_numbers(p)
     assert len(numbers) == p.joints.count
-    for n in (numbers[0], numbers[-1]):   # the spools differ only in the angles of their leave points
-        solid = spool_solid(n)
-        assert solid.is_valid and len(solid.solids()) == 1
-        assert solid.bounding_box().max.X - solid.bounding_box().min.X == pytest.approx(2 * n.flange_radius_mm)
+    for n in (numbers[0], numbers[-1]):
+        for half in ("lower", "upper"):
+            solid = spool_solid(n, half)
+            assert solid.is_valid and len(solid.solids()) == 1
+            assert solid.bounding_box().max.X - solid.bounding_box().min.X == pytest.approx(2 * n.flange_radius_mm)
 
 
 def test_drum_too_small_for_the_anchors_is_refused():
     """A 10 mm drum passes the schema's wall check but has no room for the anchor holes around the bore."""
     p = replace_key(Params(), "spool.drum_diameter_mm", 10.0)
-    with pytest.raises(UserError, match=r"spool_1: spool.drum_diameter_mm = 10 leaves no room for the cable anchor"):
+    with pytest.raises(UserError, match=r"spool: spool.drum_diameter_mm = 10 leaves no room for the cable anchor"):
         spool_numbers(p)

@@ -1,0 +1,645 @@
+"""The capstan cables and the PTFE tubes as solids of the assembly, numbers first (centre lines), meshes second.
+
+Issue 12 item 5: every cable and tube is a swept solid along its route that moves with the joints, so that the
+assembly check (:mod:`swiftfin.cad.assembly`) proves over the joints' range that no cable passes through a part,
+and the rules here prove that every bend meets its minimum radius and every tube is seated against a stop.
+
+**Cables** (:func:`cable_pieces`). Each side of each pull-pull cable follows
+:func:`swiftfin.layout.geometry.cable_routes` (spool tangent -> exit guide -> bay guide -> the hinge lines of the
+joints ahead, on the axis -> tangent to its own joint's tendon sector), as a circle of ``cable.diameter_mm`` swept
+along the centre line:
+
+* the **exit** and **bay** bends are rounded at the guide channel's radius ``guides.min_bend_radius_mm`` (the same
+  arc as :func:`swiftfin.cad.guide.bend_channel`, so the cable runs on the channel's centre line);
+* the cable is cut into **pieces, one per kinematic link**: ``cable_<J>_<left|right>_<k>`` is the straight run
+  rigid with link k (k = 0: spool to the hinge line of joint 1, or to the sector for J = 1; 1 <= k < J: hinge line
+  of joint k to that of joint k+1, or to the sector). Pieces meet on the joint axes, where a rotation of the joint
+  does not move them, so the cable is continuous in every pose; a piece ends in a half sphere, so two pieces meeting
+  at an angle make the cable's sharp turn round the hinge line (it bends by its rest angle plus the joint angle);
+* ``cable_<J>_<side>_<J>_groove`` (link J) is the cable wrapped in the tendon sector's groove at the seated radius
+  (``JointHardware.moment_arm_mm``), from the tangent point less the stop angle to the anchor: whatever the joint's
+  angle, the wrapped cable lies inside this arc (the straight run stays tangent to the sector, which turns about
+  its own axis), so a rigid piece on link J covers every wrap state; ``cable_<J>_<side>_<J>_anchor`` is the radial
+  run from the groove into the anchor hole.
+
+The wraps on the spools' drums are not modelled (they lie in the spool's own groove; cad/spool.py checks it).
+
+**PTFE tubes** (:func:`tube_runs`). Where the design puts a tube:
+
+* in every **guide channel**, over the stretch of the channel's centre line that lies inside its printed block
+  (the same pieces as the tube masses of :mod:`swiftfin.exports.line_masses`): ``tube_<guide>_<J>_<side>``, link 0;
+* in every **bulkhead hole** of the hull (:func:`swiftfin.cad.hull._cable_holes`: a hole of PTFE tube OD + 2 sliding
+  clearance along the route), from the bulkhead's front face to its back face along the route:
+  ``tube_<hull piece>_<J>_<side>``, on the piece's link.
+
+The links' pass-through holes are tube-sized too, but nothing in the design says a tube is in them; here the
+cable runs bare through them (and must clear them).
+
+**Stops.** A tube end is *seated* when printed material of its own link fills at least
+:data:`STOP_FILL_FRACTION` of the ring (tube ID to OD) within ``print.clearance_sliding_mm`` beyond the end
+(:func:`tube_stop_problems`, measured on the built meshes). A tube needs a stop at both ends: the cable drags it
+both ways (pull-pull).
+
+**Bend radii** (:func:`cable_bends`, :func:`bend_radius_problems`): a tube's bends (its centre line, measured on the
+tube pieces) >= ``guides.min_bend_radius_mm``; a cable's bends >= ``rules.drum_to_cable_min x cable.diameter_mm / 2``
+(the paper's drum rule, D >= 20 d, read as a least bend radius of 10 d for the braided cable). A cable in a tube
+rides on the inside of the bend, so its radius is the tube's less ``(tube ID - cable d) / 2``. On a hinge line the
+cable turns by its rest angle plus up to the joint's stop angle round the edge of the link's pass-through hole; a
+printed edge has no radius (0 mm), unless the joint hardware declares one (``JointHardware.lead_radius_mm``).
+
+Meshes (:func:`cable_parts`) are numpy sweeps (no CAD kernel): polygons circumscribed about the circle (the mesh
+contains the true cylinder, so a gap measured on it is never larger than the real one), closed and manifold.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from swiftfin.cad.assembly import Placed, cable_clearance_mm, chain_transform, link_transform
+from swiftfin.cad.guide import arc_points, bend_channel, guide_blocks
+from swiftfin.core.errors import BuildError
+from swiftfin.core.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.layout.joints import all_joint_hardware
+
+SIDE_NAME = {1: "left", -1: "right"}
+
+CABLE_SIDES = 12
+"""Polygon sides of a cable's section: circumscribed, its flats lie 3.5 % of the radius (0.02 mm) outside the
+true circle. Engineering default (thin, long meshes keep the assembly check fast)."""
+TUBE_SIDES = 24
+"""Polygon sides of a tube's section (its outer flats 0.9 % outside the true circle, 0.02 mm for a 4 mm tube)."""
+ARC_STEP_DEG = 3.0
+"""Angular step of the sampled arcs (bends, grooves): the chord lies r (1 - cos 1.5 deg) = 3.4e-4 r inside the arc."""
+SAMPLE_STEP_MM = 0.2
+"""Step along a guide channel when finding the stretch inside its block (tube ends within this of the face)."""
+MIN_TUBE_MM = 1.0
+"""A stretch of channel inside a block shorter than this holds no tube (a sliver at a clipped corner)."""
+STOP_FILL_FRACTION = 0.5
+"""A tube end is seated when at least this fraction of the ring beyond its end is printed material of its own
+link: a shoulder across at least half the tube's wall takes the tube's push. Engineering default."""
+
+
+# ----------------------------------------------------------------------------------------------- numbers
+@dataclass(frozen=True)
+class CablePiece:
+    """A stretch of one cable rigid with kinematic link ``link``: centre line (body frame at rest, mm)."""
+    label: str
+    joint: int                   # 1-based joint the cable drives
+    side: int                    # +1 left (+y), -1 right
+    link: int
+    kind: str                    # "run", "groove", "anchor"
+    points_mm: tuple             # ((x, y, z), ...) smooth centre line
+    radius_mm: float
+
+
+@dataclass(frozen=True)
+class TubeRun:
+    """A PTFE tube: centre line (body frame at rest, mm), rigid with ``link``, held by ``holder``."""
+    label: str
+    joint: int
+    side: int
+    link: int
+    kind: str                    # "guide" (in a guide channel), "bulkhead" (in a hull bulkhead hole)
+    holder: str                  # the guide's label, or the hull piece's name (its halves: <name>_upper/_lower)
+    points_mm: tuple
+    od_mm: float
+    id_mm: float
+
+    @property
+    def length_mm(self) -> float:
+        return _length(np.asarray(self.points_mm))
+
+
+@dataclass(frozen=True)
+class CableBend:
+    """A bend of a cable or tube: the largest turn over the joint's range and the radius it is made with."""
+    label: str                   # the cable or tube
+    kind: str                    # "exit", "bay" (guide channel), "hinge", "sector", "drum", "tube"
+    angle_rad: float
+    radius_mm: float
+    limit_mm: float
+    point_mm: tuple
+
+    @property
+    def ok(self) -> bool:
+        return self.radius_mm >= self.limit_mm * (1 - 1e-9)
+
+
+@dataclass(frozen=True)
+class CableFinding:
+    """A rule the cables or tubes fail (a bend too tight, a tube end without a stop)."""
+    rule: str                    # "cable_bend_radius", "tube_bend_radius", "tube_stop"
+    label: str
+    value: float
+    limit: float
+    where_mm: tuple
+    detail: str
+
+    def __str__(self) -> str:
+        return f"{self.label}: {self.detail} near ({', '.join(f'{c:.1f}' for c in self.where_mm)}) mm"
+
+
+def _length(pts: np.ndarray) -> float:
+    return float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1))) if len(pts) > 1 else 0.0
+
+
+def cable_min_bend_radius_mm(p: Params) -> float:
+    """Least bend radius of the cable: half the paper's least drum diameter (``rules.drum_to_cable_min`` x d)."""
+    return p.rules.drum_to_cable_min * p.cable.diameter_mm / 2
+
+
+def _arc_samples(ch) -> np.ndarray:
+    n = max(3, int(math.ceil(math.degrees(ch.angle_rad) / ARC_STEP_DEG)) + 1)
+    return arc_points(ch, n)
+
+
+def _rounded_polyline(pts: list, radius: float, dia: float, joint: int, side: int) -> np.ndarray:
+    """The polyline with every inner corner replaced by the guide channel's arc of ``radius``."""
+    out = [np.asarray(pts[0], float)]
+    for k in range(1, len(pts) - 1):
+        ch = bend_channel(pts[k - 1], pts[k], pts[k + 1], radius, dia, joint, side, 1.0)
+        if ch.angle_rad <= 1e-9:
+            out.append(np.asarray(pts[k], float))
+        else:
+            out += list(_arc_samples(ch))
+    out.append(np.asarray(pts[-1], float))
+    return _dedupe(np.asarray(out))
+
+
+def _dedupe(pts: np.ndarray, eps: float = 1e-6) -> np.ndarray:
+    keep = [0] + [i for i in range(1, len(pts)) if np.linalg.norm(pts[i] - pts[i - 1]) > eps]
+    return pts[keep]
+
+
+def _sector_arc(x_axis: float, radius: float, z: float, a0_deg: float, a1_deg: float) -> np.ndarray:
+    n = max(3, int(math.ceil(abs(a1_deg - a0_deg) / ARC_STEP_DEG)) + 1)
+    a = np.radians(np.linspace(a0_deg, a1_deg, n))
+    return np.column_stack([x_axis + radius * np.cos(a), radius * np.sin(a), np.full(n, z)])
+
+
+def cable_pieces(p: Params) -> tuple[CablePiece, ...]:
+    """Every cable as pieces rigid with their links (see the module docstring)."""
+    r = p.cable.diameter_mm / 2
+    R = p.guides.min_bend_radius_mm
+    dia = p.guides.ptfe_tube_od_mm + p.print.clearance_sliding_mm
+    stops = L.joint_stop_angles_rad(p)
+    hw = {h.joint: h for h in all_joint_hardware(p)}
+    out = []
+    for route in L.cable_routes(p):
+        J, side = route.joint + 1, route.side
+        name = f"cable_{J}_{SIDE_NAME[side]}"
+        pts = [np.asarray(q, float) for q in route.points_mm]
+        hinge_idx = [k + 1 for k, b in enumerate(route.bends) if b.kind == "hinge"]
+        cuts = [0] + hinge_idx + [len(pts) - 1]
+        for link, (i0, i1) in enumerate(zip(cuts[:-1], cuts[1:])):
+            seg = pts[i0:i1 + 1]
+            line = _rounded_polyline(seg, R, dia, J, side) if link == 0 else np.asarray(seg)
+            out.append(CablePiece(f"{name}_{link}", J, side, link, "run", tuple(map(tuple, line)), r))
+        h = hw[J]
+        m = h.moment_arm_mm
+        z = h.own_levels_mm[0 if side > 0 else 1]
+        a_t = side * h.tangent_deg[0 if side > 0 else 1]          # |tangent angle| of this side
+        stop = math.degrees(stops[J - 1])
+        arc = _sector_arc(h.x_mm, m, z, side * (a_t - stop), side * h.anchor_deg)
+        out.append(CablePiece(f"{name}_{J}_groove", J, side, J, "groove", tuple(map(tuple, arc)), r))
+        u = np.array([math.cos(math.radians(side * h.anchor_deg)), math.sin(math.radians(side * h.anchor_deg)), 0.0])
+        a0 = np.array([h.x_mm, 0.0, z]) + m * u
+        a1 = np.array([h.x_mm, 0.0, z]) + h.anchor_radius_mm * u
+        out.append(CablePiece(f"{name}_{J}_anchor", J, side, J, "anchor", (tuple(a0), tuple(a1)), r))
+    return tuple(out)
+
+
+def _channel_line(ch) -> np.ndarray:
+    step = SAMPLE_STEP_MM
+    parts = []
+    a, b = np.asarray(ch.p_in, float), np.asarray(ch.t1, float)
+    n = max(2, int(math.ceil(np.linalg.norm(b - a) / step)) + 1)
+    parts.append(a + np.linspace(0, 1, n)[:, None] * (b - a))
+    if ch.angle_rad > 1e-9:
+        parts.append(_arc_samples(ch))
+        a = np.asarray(ch.t2, float)
+    else:
+        a = b
+    b = np.asarray(ch.p_out, float)
+    n = max(2, int(math.ceil(np.linalg.norm(b - a) / step)) + 1)
+    parts.append(a + np.linspace(0, 1, n)[:, None] * (b - a))
+    return _dedupe(np.vstack(parts))
+
+
+def _densify(pts: np.ndarray, step: float) -> np.ndarray:
+    out = [pts[0]]
+    for a, b in zip(pts[:-1], pts[1:]):
+        n = max(1, int(math.ceil(np.linalg.norm(b - a) / step)))
+        out += list(a + np.linspace(0, 1, n + 1)[1:, None] * (b - a))
+    return np.asarray(out)
+
+
+def _inside_block(b, pts: np.ndarray) -> np.ndarray:
+    """Which points lie in the guide block's printed body before its channels are cut (box, hull clip,
+    spool keep-outs, notch), as :func:`swiftfin.cad.guide.guide_solid` makes it."""
+    (x0, x1), (y0, y1), (z0, z1) = b.x_mm, b.y_mm, b.z_mm
+    x, y, z = pts[:, 0], pts[:, 1], pts[:, 2]
+    ok = (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1) & (z >= z0) & (z <= z1)
+    a, h = b.clip_ellipse_mm
+    ok &= (y / a) ** 2 + (z / h) ** 2 <= 1.0
+    for kx, ky, kr in b.keep_out_mm:
+        ok &= np.hypot(x - kx, y - ky) >= kr
+    if b.notch_mm is not None:
+        nx, nz = b.notch_mm
+        ok &= ~((x >= nx) & (z < nz))
+    return ok
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    out, start = [], None
+    for i, v in enumerate(mask):
+        if v and start is None:
+            start = i
+        if not v and start is not None:
+            out.append((start, i - 1))
+            start = None
+    if start is not None:
+        out.append((start, len(mask) - 1))
+    return out
+
+
+def _suffix(k: int, n: int) -> str:
+    return "" if n == 1 else "_" + "abcdefghijklmnopqrstuvwxyz"[k]
+
+
+def tube_runs(p: Params) -> tuple[TubeRun, ...]:
+    """Every PTFE tube of the design (see the module docstring): guide channels, then bulkhead holes."""
+    g = p.guides
+    out = []
+    for b in guide_blocks(p):
+        for ch in b.channels:
+            line = _channel_line(ch)
+            runs = [(i, k) for i, k in _runs(_inside_block(b, line)) if _length(line[i:k + 1]) >= MIN_TUBE_MM]
+            for n, (i, k) in enumerate(runs):
+                label = f"tube_{b.label}_{ch.joint}_{SIDE_NAME[ch.side]}{_suffix(n, len(runs))}"
+                out.append(TubeRun(label, ch.joint, ch.side, 0, "guide", b.label, tuple(map(tuple, line[i:k + 1])),
+                                   g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
+    from swiftfin.cad.hull import _bulkheads, hull_pieces   # the bulkheads the hull cuts its cable holes in
+    hw = {h.joint: h for h in all_joint_hardware(p)}
+    hole_r = g.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
+    for pc in hull_pieces(p):
+        found: dict[tuple, list] = {}
+        for sf, sb in _bulkheads(p, pc):
+            xf, xb = -sf, -sb
+            rear = pc.rear_joint if sb == pc.s_end_mm and pc.rear_joint is not None else None
+            for route in L.cable_routes(p):
+                pts = np.asarray(route.points_mm, float)
+                for a, c in zip(pts[:-1], pts[1:]):
+                    xm = (xf + xb) / 2
+                    if (a[0] - xm) * (c[0] - xm) >= 0:
+                        continue
+                    d = c - a
+                    q0 = a + (xf - a[0]) / d[0] * d
+                    q1 = a + (xb - a[0]) / d[0] * d
+                    if rear is not None and _in_clevis_cut(p, hw[rear], np.array([q0, q1]), hole_r):
+                        continue     # the hole breaks into the clevis's room for the link: no bore to hold a tube
+                    found.setdefault((route.joint + 1, route.side), []).append((q0, q1))
+        for (J, side), items in found.items():
+            for n, (q0, q1) in enumerate(items):
+                label = f"tube_{pc.name}_{J}_{SIDE_NAME[side]}{_suffix(n, len(items))}"
+                out.append(TubeRun(label, J, side, pc.link, "bulkhead", pc.name, (tuple(q0), tuple(q1)),
+                                   g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
+    return tuple(out)
+
+
+def _in_clevis_cut(p: Params, h, pts: np.ndarray, hole_r: float) -> bool:
+    """Whether a hole of radius ``hole_r`` round the segment ``pts`` (two points) reaches into the room the parent's
+    rear bulkhead leaves for joint ``h``'s link (the sector and knuckle cylinders of
+    :func:`swiftfin.cad.clevis.clevis_cut`)."""
+    ca, cs = p.print.clearance_assembly_mm, p.print.clearance_sliding_mm
+    cuts = ((h.sector_radius_mm + ca, h.z_sector_lo_mm - cs, h.z_sector_hi_mm + cs),
+            (h.knuckle_radius_mm + ca, h.z_knuckle_lo_mm - cs, h.z_sector_lo_mm))
+    q = pts[0] + np.linspace(0, 1, 11)[:, None] * (pts[1] - pts[0])
+    rho = np.hypot(q[:, 0] - h.x_mm, q[:, 1])
+    for R, z0, z1 in cuts:
+        if np.any((rho < R + hole_r) & (q[:, 2] > z0 - hole_r) & (q[:, 2] < z1 + hole_r)):
+            return True
+    return False
+
+
+# ----------------------------------------------------------------------------------------------- bends
+def _turn_deg_over_range(p: Params, a, b, c, joint: int) -> float:
+    """Largest turn at b of a -> b (fixed, link ahead) -> c (turning with ``joint``) over the joint's range [rad]."""
+    u = np.subtract(b, a)
+    u = u / np.linalg.norm(u)
+    stop = L.joint_stop_angles_rad(p)[joint - 1]
+    worst = 0.0
+    for th in np.linspace(-stop, stop, 41):
+        m = chain_transform(p, joint, joint, {joint: float(th)})
+        v = m[:3, :3] @ np.subtract(c, b)
+        v = v / np.linalg.norm(v)
+        worst = max(worst, math.acos(max(-1.0, min(1.0, float(u @ v)))))
+    return worst
+
+
+def _circumradii(pts: np.ndarray) -> np.ndarray:
+    """Radius of the circle through each three consecutive points (inf on a straight stretch)."""
+    a, b, c = pts[:-2], pts[1:-1], pts[2:]
+    ab, bc, ca = (np.linalg.norm(b - a, axis=1), np.linalg.norm(c - b, axis=1), np.linalg.norm(a - c, axis=1))
+    cross = np.linalg.norm(np.cross(b - a, c - a), axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = ab * bc * ca / (2 * cross)
+    return np.where(cross > 1e-9 * np.maximum(ab * bc, 1e-12), r, np.inf)
+
+
+def cable_bends(p: Params, pieces=None, tubes=None) -> tuple[CableBend, ...]:
+    """Every bend of every cable and tube with its radius and limit (see the module docstring)."""
+    pieces = cable_pieces(p) if pieces is None else pieces
+    tubes = tube_runs(p) if tubes is None else tubes
+    lim_c = cable_min_bend_radius_mm(p)
+    lim_t = p.guides.min_bend_radius_mm
+    ride = (p.guides.ptfe_tube_id_mm - p.cable.diameter_mm) / 2
+    hw = {h.joint: h for h in all_joint_hardware(p)}
+    out = []
+    for route in L.cable_routes(p):
+        J, side = route.joint + 1, route.side
+        name = f"cable_{J}_{SIDE_NAME[side]}"
+        pts = route.points_mm
+        for k, bend in enumerate(route.bends, start=1):
+            if bend.kind in ("exit", "bay"):
+                out.append(CableBend(name, bend.kind, bend.angle_rad, p.guides.min_bend_radius_mm - ride, lim_c,
+                                     bend.point_mm))
+            else:
+                lead = float(getattr(hw[bend.link], "lead_radius_mm", 0.0) or 0.0)
+                ang = _turn_deg_over_range(p, pts[k - 1], pts[k], pts[k + 1], bend.link)
+                out.append(CableBend(name, "hinge", ang, lead, lim_c, bend.point_mm))
+        h = hw[J]
+        z = h.own_levels_mm[0 if side > 0 else 1]
+        out.append(CableBend(name, "sector", math.radians(h.anchor_deg - side * h.tangent_deg[0 if side > 0 else 1]),
+                             h.moment_arm_mm, lim_c, (h.x_mm, 0.0, z)))
+        mp = L.motor_placements(p)[J - 1]
+        out.append(CableBend(name, "drum", 2 * math.pi * p.spool.wraps, p.spool.drum_diameter_mm / 2, lim_c,
+                             (mp.x_mm, 0.0, mp.z_cable_mm)))
+    for t in tubes:
+        rr = _circumradii(np.asarray(t.points_mm, float))
+        if len(rr) and np.isfinite(rr).any():
+            i = int(np.argmin(rr))
+            pts = np.asarray(t.points_mm, float)
+            d0 = np.diff(pts, axis=0)
+            d0 = d0 / np.linalg.norm(d0, axis=1)[:, None]
+            ang = math.acos(max(-1.0, min(1.0, float(d0[0] @ d0[-1]))))
+            out.append(CableBend(t.label, "tube", ang, float(rr[i]), lim_t, tuple(pts[i + 1])))
+    return tuple(out)
+
+
+def bend_radius_problems(p: Params, bends=None) -> list[CableFinding]:
+    out = []
+    for b in (cable_bends(p) if bends is None else bends):
+        if b.ok:
+            continue
+        rule = "tube_bend_radius" if b.kind == "tube" else "cable_bend_radius"
+        src = ("guides.min_bend_radius_mm" if b.kind == "tube"
+               else "rules.drum_to_cable_min x cable.diameter_mm / 2")
+        what = {"hinge": "round the edge of the pass-through hole on the hinge line (no lead radius)"}.get(
+            b.kind, f"at its {b.kind} bend")
+        out.append(CableFinding(rule, b.label, b.radius_mm, b.limit_mm, tuple(b.point_mm),
+                                f"bends by up to {math.degrees(b.angle_rad):.1f} deg {what} with radius "
+                                f"{b.radius_mm:.2f} mm < {b.limit_mm:g} mm ({src})"))
+    return out
+
+
+# ----------------------------------------------------------------------------------------------- meshes
+def _frames(pts: np.ndarray):
+    """Unit tangents (mean of the neighbouring segments) and a parallel-transported normal at each point."""
+    d = np.diff(pts, axis=0)
+    d = d / np.linalg.norm(d, axis=1)[:, None]
+    t = np.vstack([d[:1], d[:-1] + d[1:], d[-1:]])
+    t = t / np.linalg.norm(t, axis=1)[:, None]
+    ref = np.array([0.0, 0.0, 1.0]) if abs(t[0][2]) < 0.9 else np.array([1.0, 0.0, 0.0])
+    n = np.cross(t[0], ref)
+    n /= np.linalg.norm(n)
+    ns = [n]
+    for i in range(1, len(t)):
+        n = n - (n @ t[i]) * t[i]
+        n /= np.linalg.norm(n)
+        ns.append(n)
+    ns = np.asarray(ns)
+    bs = np.cross(t, ns)
+    # a section at a point where the line turns is stretched by 1 / cos(half the turn) so the swept radius holds
+    half = np.zeros(len(pts))
+    if len(pts) > 2:
+        half[1:-1] = np.arccos(np.clip(np.einsum("ij,ij->i", d[:-1], d[1:]), -1, 1)) / 2
+    return t, ns, bs, 1.0 / np.cos(half)
+
+
+def _ring(c, n, b, stretch_dir, stretch, radius, sides):
+    ang = 2 * math.pi * (np.arange(sides) + 0.5) / sides
+    vec = np.outer(np.cos(ang), n) + np.outer(np.sin(ang), b)
+    # stretch along the turn's in-plane direction (the miter): the component of vec along stretch_dir
+    if stretch != 1.0:
+        comp = vec @ stretch_dir
+        vec = vec + np.outer(comp * (stretch - 1.0), stretch_dir)
+    return c + radius * vec
+
+
+def sweep_mesh(points, radius: float, sides: int, inner_radius: float = 0.0, round_ends: bool = False
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """Closed triangle mesh of a circle (or a ring ``inner_radius``..``radius``) swept along a smooth polyline:
+    polygon circumscribed about the circle (inscribed in the bore), flat or half-sphere ends, outward normals."""
+    pts = _dedupe(np.asarray(points, float))
+    if len(pts) < 2:
+        raise ValueError("a sweep needs two distinct points")
+    t, ns, bs, st = _frames(pts)
+    d = np.diff(pts, axis=0)
+    d = d / np.linalg.norm(d, axis=1)[:, None]
+    r_out = radius / math.cos(math.pi / sides)
+    m = len(pts)
+
+    def miter(i):
+        if 0 < i < m - 1:
+            w = d[i] - d[i - 1]
+            nw = np.linalg.norm(w)
+            if nw > 1e-12:
+                w = w - (w @ t[i]) * t[i]
+                return w / np.linalg.norm(w), st[i]
+        return t[i], 1.0
+
+    verts, faces = [], []
+
+    def add_rings(rad):
+        base = len(verts)
+        for i in range(m):
+            sd, s = miter(i)
+            verts.extend(_ring(pts[i], ns[i], bs[i], sd, s, rad, sides))
+        return base
+
+    def side_faces(base, flip):
+        for i in range(m - 1):
+            for k in range(sides):
+                a, b = base + i * sides + k, base + i * sides + (k + 1) % sides
+                c, e = a + sides, b + sides
+                tri = [(a, b, e), (a, e, c)]
+                faces.extend([(x, z, y) for x, y, z in tri] if flip else tri)
+
+    outer = add_rings(r_out)
+    side_faces(outer, False)
+    if inner_radius > 0:
+        inner = add_rings(inner_radius)
+        side_faces(inner, True)
+        for i, flip in ((0, True), (m - 1, False)):
+            for k in range(sides):
+                a, b = outer + i * sides + k, outer + i * sides + (k + 1) % sides
+                c, e = inner + i * sides + k, inner + i * sides + (k + 1) % sides
+                tri = [(a, c, e), (a, e, b)]
+                faces.extend([(x, z, y) for x, y, z in tri] if not flip else tri)
+    else:
+        for i, sgn in ((0, -1.0), (m - 1, 1.0)):
+            ring0 = outer + i * sides
+            if round_ends:
+                prev = ring0
+                lat = max(2, sides // 4)
+                for q in range(1, lat):
+                    phi = q * (math.pi / 2) / lat
+                    base = len(verts)
+                    # circumscribe the half sphere too: radius r_out / cos of the half latitude step
+                    rr = r_out / math.cos(math.pi / 4 / lat)
+                    c = pts[i] + sgn * t[i] * rr * math.sin(phi)
+                    verts.extend(_ring(c, ns[i], bs[i], t[i], 1.0, rr * math.cos(phi), sides))
+                    for k in range(sides):
+                        a, b = prev + k, prev + (k + 1) % sides
+                        c2, e = base + k, base + (k + 1) % sides
+                        tri = [(a, b, e), (a, e, c2)]
+                        faces.extend(tri if sgn > 0 else [(x, z, y) for x, y, z in tri])
+                    prev = base
+                pole = len(verts)
+                verts.append(pts[i] + sgn * t[i] * r_out / math.cos(math.pi / 4 / lat))
+                ring0 = prev
+            else:
+                pole = len(verts)
+                verts.append(pts[i])
+            for k in range(sides):
+                a, b = ring0 + k, ring0 + (k + 1) % sides
+                faces.append((a, b, pole) if sgn > 0 else (a, pole, b))
+    return np.asarray(verts, float), np.asarray(faces, np.int64)
+
+
+def cable_parts(p: Params, pieces=None, tubes=None) -> list[Placed]:
+    """Every cable piece and tube as a :class:`swiftfin.cad.assembly.Placed` mesh (families "cable", "tube"), for
+    :func:`swiftfin.cad.assembly.check_assembly` together with the printed and bought parts."""
+    pieces = cable_pieces(p) if pieces is None else pieces
+    tubes = tube_runs(p) if tubes is None else tubes
+    out = []
+    for c in pieces:
+        v, f = sweep_mesh(c.points_mm, c.radius_mm, CABLE_SIDES, round_ends=True)
+        out.append(Placed(c.label, c.link, "cable", v, f))
+    for t in tubes:
+        v, f = sweep_mesh(t.points_mm, t.od_mm / 2, TUBE_SIDES, inner_radius=t.id_mm / 2)
+        out.append(Placed(t.label, t.link, "tube", v, f))
+    return out
+
+
+# ----------------------------------------------------------------------------------------------- stops
+def _end_ring(t: TubeRun, end: int, depth_mm: float):
+    """The ring (tube ID to OD) from the tube's end ``end`` (0: first point, -1: last) ``depth_mm`` outward."""
+    import manifold3d as m3d
+    pts = np.asarray(t.points_mm, float)
+    if end == 0:
+        q, d = pts[0], pts[0] - pts[1]
+    else:
+        q, d = pts[-1], pts[-1] - pts[-2]
+    d = d / np.linalg.norm(d)
+    v, f = sweep_mesh([q, q + depth_mm * d], t.od_mm / 2 * math.cos(math.pi / TUBE_SIDES), TUBE_SIDES,
+                      inner_radius=t.id_mm / 2)
+    return m3d.Manifold(m3d.Mesh(vert_properties=v.astype(np.float32), tri_verts=f.astype(np.uint32))), q
+
+
+def tube_stop_problems(p: Params, tubes, parts: list[Placed]) -> list[CableFinding]:
+    """Tube ends without a stop: printed material of the tube's link must fill :data:`STOP_FILL_FRACTION` of the
+    ring beyond the end, within ``print.clearance_sliding_mm`` (measured on the parts' meshes)."""
+    depth = p.print.clearance_sliding_mm
+    solid = [q for q in parts if q.family not in ("cable", "tube")]
+    out = []
+    for t in tubes:
+        for end, word in ((0, "first"), (-1, "last")):
+            ring, q = _end_ring(t, end, depth)
+            lo, hi = np.asarray(ring.bounding_box()[:3]), np.asarray(ring.bounding_box()[3:])
+            filled = 0.0
+            for part in solid:
+                if part.link != t.link:
+                    continue
+                plo, phi = part.vertices.min(axis=0), part.vertices.max(axis=0)
+                if np.any(plo > hi) or np.any(phi < lo):
+                    continue
+                filled += (part.manifold ^ ring).volume()
+            frac = filled / ring.volume()
+            if frac < STOP_FILL_FRACTION:
+                out.append(CableFinding("tube_stop", t.label, frac, STOP_FILL_FRACTION, tuple(float(c) for c in q),
+                                        f"its {word} end has no stop ({100 * frac:.0f} % of the ring within "
+                                        f"{depth:g} mm beyond it is printed material of link {t.link}, needs "
+                                        f"{100 * STOP_FILL_FRACTION:.0f} %)"))
+    return out
+
+
+def check_cables(p: Params, parts: list[Placed], tubes=None) -> dict:
+    """The cable rules that are not clearances: bend radii and tube stops (the clearances are the assembly check's,
+    run with :func:`cable_parts` among the parts). Raises BuildError listing every failure; returns counts."""
+    tubes = tube_runs(p) if tubes is None else tubes
+    bends = cable_bends(p, tubes=tubes)
+    problems = bend_radius_problems(p, bends) + tube_stop_problems(p, tubes, parts)
+    if problems:
+        raise BuildError(f"{len(problems)} cable and tube rule(s) failed:\n"
+                         + "\n".join(f"  - {pr}" for pr in problems))
+    return {"bends": len(bends), "tube_ends": 2 * len(tubes)}
+
+
+def cable_intrusions(p: Params, piece: CablePiece, part: Placed, angles_rad: dict | None = None,
+                     resolution_mm: float = 0.01) -> tuple[float, tuple | None]:
+    """How deep the cable piece's surface runs into ``part`` [mm] (0: it does not) and where, with both placed at
+    the joint angles (``angles_rad``: {joint: angle}, the others 0). Found by bisection on the radius of the swept
+    cable: the depth is the radius less the thickest cable that still clears the part (the cable's radius or more
+    when its centre line itself is in the part). For reports; the check is the assembly's."""
+    import manifold3d as m3d
+    angles = dict(angles_rad or {})
+    full = [angles.get(j, 0.0) for j in range(1, p.joints.count + 1)]
+    m = np.linalg.inv(link_transform(p, part.link, full)) @ link_transform(p, piece.link, full)
+    pts = np.asarray(piece.points_mm, float) @ m[:3, :3].T + m[:3, 3]
+    target = part.manifold
+
+    def overlap(rho):
+        v, f = sweep_mesh(pts, rho, CABLE_SIDES, round_ends=True)
+        man = m3d.Manifold(m3d.Mesh(vert_properties=v.astype(np.float32), tri_verts=f.astype(np.uint32)))
+        inter = target ^ man
+        return inter.volume(), inter
+
+    vol, inter = overlap(piece.radius_mm)
+    if vol <= 0:
+        return 0.0, None
+    bb = inter.bounding_box()
+    where = tuple(float((a + b) / 2) for a, b in zip(bb[:3], bb[3:]))
+    lo, hi = 0.0, piece.radius_mm
+    back = link_transform(p, part.link, full)
+    if overlap(resolution_mm)[0] > 0:   # the centre line is in the part: radius + the deepest point's depth
+        c = _densify(pts, 0.1)
+        c = c[np.all((c >= np.asarray(bb[:3]) - 1e-6) & (c <= np.asarray(bb[3:]) + 1e-6), axis=1)]
+        best, at = 0.0, where
+        for q in c:
+            ball = m3d.Manifold.sphere(resolution_mm, 16).translate(tuple(q))
+            if (ball - target).volume() > 0.5 * ball.volume():
+                continue
+            a, b = 0.0, 2 * piece.radius_mm + 10.0
+            while b - a > resolution_mm:
+                mid = (a + b) / 2
+                ball = m3d.Manifold.sphere(mid, 24).translate(tuple(q))
+                if (ball - target).volume() > 1e-6 * ball.volume():
+                    b = mid
+                else:
+                    a = mid
+            if a > best:
+                best, at = a, tuple(float(v) for v in back[:3, :3] @ q + back[:3, 3])
+        return float(piece.radius_mm + best), at
+    while hi - lo > resolution_mm:
+        mid = (lo + hi) / 2
+        if overlap(mid)[0] > 0:
+            hi = mid
+        else:
+            lo = mid
+    w = back[:3, :3] @ np.asarray(where) + back[:3, 3]
+    return float(piece.radius_mm - lo), tuple(float(c) for c in w)
