@@ -14,7 +14,9 @@ above the face). Its joints:
   the motor's own tapped holes (seat ``"tapped"``, ``motor.mount_hole_depth_mm`` deep): the shortest catalogue
   length that reaches 1 d into the thread, with a spot face raised under each head (whole layers) where it would
   otherwise reach the thread's end (:func:`swiftfin.layout.mount_plan.motor_screw_fit`: M3 x 8 over a 3.6 mm plate
-  and a 0.2 mm spot face, 4.2 mm into a 4.5 mm thread).
+  and a 0.2 mm spot face, 4.2 mm into a 4.5 mm thread). They are driven from above before the head's upper halves
+  go on (:func:`swiftfin.layout.hull_plan.head_lid_labels`; a splice tab of the front piece reaches over the rear
+  piece's motors, so the whole lid, not only the piece at the screw's station, is left off).
 * **Mount <-> hull wall**: two screws on each side, spread along x about the motor's station, from outside through
   a pad of the upper hull half into heat-set inserts in bosses of the mount (:mod:`swiftfin.layout.mount_plan`
   argues the arrangement and checks the loads: the cables' pull at the cable plane makes a pitch moment that two
@@ -192,8 +194,9 @@ def make_motor_mounts(p: Params) -> list[PartSpec]:
 def mount_fasteners(p: Params) -> tuple[Fastener, ...]:
     """The wall screws (hull's upper half -> insert in the mount's boss) and the motor's face screws (mount plate
     -> the motor's tapped holes) of every mount."""
-    from swiftfin.layout.hull_plan import hull_pieces, part_label
+    from swiftfin.layout.hull_plan import head_lid_labels, hull_pieces, part_label
     pieces = hull_pieces(p)
+    lid = head_lid_labels(p)      # the head's upper halves go on after the motors are screwed to their mounts
     blocks = guide_blocks(p)
     s = wall_screw(p)
     fit = motor_screw_fit(p)
@@ -216,6 +219,6 @@ def mount_fasteners(p: Params) -> tuple[Fastener, ...]:
             out.append(Fastener(f"{label}_motor_{k + 1}", fit.size, "cap_screw", "tapped",
                                 (x, y, n.z_top_mm + fit.spot_face_mm), (0.0, 0.0, -1.0), fit.length_mm, fit.grip_mm,
                                 label, f"motor_{n.joint}", f"holds motor_{n.joint}'s face on {label}", 0,
-                                installed_after=over + (part_label(p, piece_at(x), "upper"),),
+                                installed_after=over + lid,
                                 meta={"hole_depth_mm": fit.hole_depth_mm}))
     return tuple(out)

@@ -193,6 +193,17 @@ def part_label(p: Params, pc: HullPiece, half: str) -> str:
     return f"{pc.name}_{half}" if p.hull.split_halves else pc.name
 
 
+def head_lid_labels(p: Params) -> tuple[str, ...]:
+    """The upper halves of the head's pieces (link 0), in order: the lid that closes the head last. The drive is
+    built in the lower halves first (motors on their mounts, spools fixed on their shafts, cables wound and
+    tensioned at the split spools), then the upper halves go on (their wall screws into the mounts are driven from
+    outside, through them). The drive's screws inside the head are driven before the lid is on; a record lists
+    these labels in its ``installed_after``. Empty for a hull that is not split (there is no lid to leave off)."""
+    if not p.hull.split_halves:
+        return ()
+    return tuple(part_label(p, pc, "upper") for pc in hull_pieces(p) if pc.link == 0)
+
+
 def _y_out(a: float, b: float, z: float) -> float:
     """Outer half-width at height z of the section with semi-axes a, b (0 beyond the section)."""
     return a * math.sqrt(max(0.0, 1.0 - (z / b) ** 2))
