@@ -6,8 +6,14 @@ Numbers first (:func:`spool_numbers`, built on :func:`swiftfin.layout.geometry.s
 ``swiftfin.cad.fastening.FASTENER_PLANS``; their holes are cut by the registry from the same records).
 
 The spool, from the motor face up: hub (bore with the shaft's D-flat; a radial set screw onto the flat, threaded
-in a steel nut in a hex trap that opens down through the hub's underside so the nut drops in), lower flange,
-grooved drum, upper flange. The drum is **split at the cable plane** into two parts that turn on the shaft:
+in a brass heat-set insert in a boss of the hub that ends in a flat face, the screw flush with it when tight),
+lower flange, grooved drum, upper flange. (Issue 12: a nut in a trap that dropped in through a slot from the hub's
+underside left no wall under the nut; a trap open along the screw would let the nut, which the set screw pushes
+outward, walk out. The insert takes the screw's thrust on its knurl all round.) The set screw points a quarter turn
+from the cable anchors, to the side: the motors and spools stand in a row along x, so its key reaches it only from
+the side, before the head's upper half goes on. Both spool screws are driven, and the cables tensioned, before the
+head's upper halves close it (their records list those halves in ``installed_after``:
+:func:`swiftfin.layout.hull_plan.head_lid_labels`). The drum is **split at the cable plane** into two parts that turn on the shaft:
 
 * ``spool_<j>`` (lower): hub, lower flange, the drum below the cable plane; carries the **right** cable.
 * ``spool_<j>_upper``: the drum above the cable plane and the upper flange, a round bore turning on the shaft;
@@ -15,7 +21,9 @@ grooved drum, upper flange. The drum is **split at the cable plane** into two pa
 
 The halves are locked by one screw (``spool.index_screw_diameter_mm``) through a vernier of index holes: the
 upper half has ``spool.index_holes_upper`` clearance holes, the lower ``spool.index_holes_lower`` self-tap
-pilots on the same circle, so some pair lines up every 360 / (upper x lower) degrees (4 deg by default). Turning
+pilots on the same circle, so some pair lines up every 360 / (upper x lower) degrees (5.7 deg by default: 7 and
+9; the upper ring's nearest holes lie half its pitch either side of the anchors and must clear the upper crimp's
+seat by two perimeters, which 10 holes did not). Turning
 the upper half clockwise (from above) against the lower winds both cables in and raises the pretension by a
 known amount per step (:func:`swiftfin.layout.tension.tensioner_numbers`). When the screw would reach further
 into the lower half than it is deep, the screw is the longest catalogue length whose pilot stays in the lower half,
@@ -107,8 +115,8 @@ class SpoolNumbers:
     set_screw_angle_rad: float  # direction of the flat and of the set screw (from the axis out)
     set_screw_z_mm: float
     set_screw_length_mm: float
-    nut_trap_x_mm: tuple[float, float]      # (inner, outer) faces of the hex trap, from the axis along the screw
-    nut_trap_half_width_mm: float           # across corners / 2 (the slot it drops down)
+    set_screw_boss_x_mm: tuple[float, float]  # (insert pocket's floor, boss face) from the axis along the screw
+    set_screw_boss_half_width_mm: float       # the boss (and the hub) half-width: insert hole / 2 + its wall
     index_radius_mm: float
     index_angles_upper_rad: tuple[float, ...]
     index_angles_lower_rad: tuple[float, ...]
@@ -133,6 +141,15 @@ def _wrap_angle(leave_left: float, leave_right: float, wraps: float) -> float:
     base = (leave_left - leave_right) % (2 * math.pi)
     k = max(math.ceil(wraps - base / (2 * math.pi) - 0.5 - 1e-9), 0)
     return base + 2 * math.pi * k
+
+
+def _set_screw_angle(anchor_angle_rad: float) -> float:
+    """Direction of the set screw (and of the bore's flat): a quarter turn from the anchors (clear of the lower
+    crimp's channel beside the hub), on the side of the two that faces the hull's wall more squarely (+y on a tie).
+    The motors and spools stand in a row along x, so a key reaches the hub only from the side, through where the
+    head's upper half goes on afterwards."""
+    options = (anchor_angle_rad + math.pi / 2, anchor_angle_rad - math.pi / 2)
+    return max(options, key=lambda a: (round(abs(math.sin(a)), 9), math.sin(a)))
 
 
 def ridge_width_mm(p: Params) -> float:
@@ -172,22 +189,23 @@ def spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
             f"spool: spool.drum_diameter_mm = {s.drum_diameter_mm:g} leaves no room for the cable anchor holes "
             f"({hole_d:.2f} mm) between the groove root (radius {root_r:.2f} mm) and the {2 * bore_r:.2f} mm shaft "
             f"bore: needs a drum of at least {2 * (bore_r + 1.5 * w + hole_d + p.cable.diameter_mm / 2):.2f} mm")
-    # ---- set screw in a nut trap in the hub, on the shaft's flat
+    # ---- set screw in a heat-set insert in a boss on the hub, on the shaft's flat
     ss = fastener(s.set_screw_diameter_mm)
     flat = m.shaft_diameter_mm / 2 - m.shaft_flat_depth_mm + pr.clearance_sliding_mm / 2
     shaft_flat = m.shaft_diameter_mm / 2 - m.shaft_flat_depth_mm
-    x_in = max(flat + w, (bore_r + w) * flat / bore_r)          # two perimeters from the flat and the bore's arc
-    x_out = x_in + ss.nut_trap_depth_mm
-    half = ss.nut_trap_width_mm / math.sqrt(3.0)                # across corners / 2
-    ss_len = ss.length_for(x_out - shaft_flat, set_screw=True)
+    x_in = max(flat + w, (bore_r + w) * flat / bore_r)          # pocket floor: two perimeters from the flat and arc
+    ss_len = ss.length_for(x_in + ss.insert_pocket_depth_mm - shaft_flat, set_screw=True)
     if ss_len is None:
-        raise UserError(f"spool: no {ss.name} set screw in catalogues/fasteners.toml reaches "
-                        f"{x_out - shaft_flat:.1f} mm from its nut to the shaft's flat")
-    hub_r = max(math.hypot(x_out, half) + w, shaft_flat + ss_len + w, bore_r + ss.key_reach_diameter_mm / 2 + w)
+        raise UserError(f"spool: no {ss.name} set screw in catalogues/fasteners.toml reaches from the face of its "
+                        f"insert's boss to the shaft's flat ({x_in + ss.insert_pocket_depth_mm - shaft_flat:.1f} mm)")
+    x_face = shaft_flat + ss_len                                # flush with the boss's face when tight
+    wall_in = math.ceil(max(w, ss.insert_wall_min_mm) / pr.line_width_mm - 1e-9) * pr.line_width_mm
+    boss_half = ss.insert_hole_mm / 2 + wall_in                  # whole perimeters round the insert
     hub_z = (d.hub_bottom_mm, d.hub_bottom_mm + d.hub_length_mm)
-    if ss.nut_trap_width_mm / 2 + w > d.hub_length_mm / 2:
+    if ss.insert_hole_mm / 2 + max(w, ss.insert_wall_min_mm) > d.hub_length_mm / 2:
         raise UserError(f"spool: spool.hub_length_mm = {s.hub_length_mm:g} is too short for the {ss.name} set "
-                        f"screw's nut trap ({ss.nut_trap_width_mm:.1f} mm and two perimeters above and below)")
+                        f"screw's heat-set insert ({ss.insert_hole_mm:g} mm hole and "
+                        f"{max(w, ss.insert_wall_min_mm):.2f} mm of wall below it)")
     # ---- index screw through the vernier
     ix = fastener(s.index_screw_diameter_mm)
     z2 = hub_z[1] + d.flange_mm
@@ -211,6 +229,8 @@ def spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
     if index_r - hole / 2 < bore_r + w or index_r + ix.clearance_hole_mm / 2 > root_r - w:
         raise UserError(f"spool: spool.drum_diameter_mm = {s.drum_diameter_mm:g} leaves no room for the {ix.name} "
                         f"index holes between the bore and the groove root")
+    # the hub backs the lower flange out past the index ring's pilots (they end in the flange, 1 mm past the tip)
+    hub_r = max(boss_half, index_r + ix.pilot_hole_mm / 2 + w)
     nu, nl = s.index_holes_upper, s.index_holes_lower
     if 2 * index_r * math.sin(math.pi / nu) < ix.clearance_hole_mm + w:
         raise UserError(f"spool: spool.index_holes_upper = {nu} holes of {ix.clearance_hole_mm:g} mm do not fit on "
@@ -243,12 +263,15 @@ def spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
         start = phi_a + math.pi / nu
         up = tuple(start + 2 * math.pi * k / nu for k in range(nu))
         lo = tuple(start + 2 * math.pi * k / nl for k in range(nl))
-        for ring, hd in ((up, ix.clearance_hole_mm), (lo, ix.pilot_hole_mm)):
+        # the upper ring clears the upper crimp's seat (it is wider than the anchor hole and reaches below the
+        # heads), the lower ring the right anchor's hole, each by two perimeters
+        for ring, hd, other in ((up, ix.clearance_hole_mm, seat_d), (lo, ix.pilot_hole_mm, hole_d)):
             gap = min(math.sqrt(index_r**2 + anchor_r**2 - 2 * index_r * anchor_r * math.cos(a - phi_a))
                       for a in ring)
-            if gap < hd / 2 + hole_d / 2 + w - 1e-9:
-                raise UserError(f"spool_{mp.joint + 1}: an index hole comes within {gap:.2f} mm of a cable anchor "
-                                f"hole: change spool.index_holes_upper / spool.index_holes_lower")
+            if gap < hd / 2 + other / 2 + w - 1e-9:
+                raise UserError(f"spool_{mp.joint + 1}: an index hole comes within {gap:.2f} mm of a cable anchor's "
+                                f"{'crimp seat' if other == seat_d else 'hole'} ({gap - hd / 2 - other / 2:.2f} mm "
+                                f"of wall, needs {w:.2f}): change spool.index_holes_upper / spool.index_holes_lower")
         out.append(SpoolNumbers(
             joint=mp.joint + 1, axis_xy_mm=(mp.x_mm, 0.0), z_face_mm=mp.z_face_mm,
             hub_radius_mm=hub_r, hub_z_mm=hub_z, flange_radius_mm=d.flange_radius_mm,
@@ -261,27 +284,26 @@ def spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
             anchor_radius_mm=anchor_r, anchor_angles_rad=(phi_mid + a_off, phi_mid - a_off),
             crimp_seat_diameter_mm=seat_d, crimp_length_mm=crimp.length_mm,
             bore_radius_mm=bore_r, flat_distance_mm=flat, shaft_flat_mm=shaft_flat,
-            set_screw_angle_rad=phi_a + math.pi, set_screw_z_mm=(hub_z[0] + hub_z[1]) / 2,
-            set_screw_length_mm=ss_len, nut_trap_x_mm=(x_in, x_out), nut_trap_half_width_mm=half,
+            set_screw_angle_rad=_set_screw_angle(phi_a), set_screw_z_mm=(hub_z[0] + hub_z[1]) / 2,
+            set_screw_length_mm=ss_len, set_screw_boss_x_mm=(x_in, x_face), set_screw_boss_half_width_mm=boss_half,
             index_radius_mm=index_r, index_angles_upper_rad=up, index_angles_lower_rad=lo, index_screw=ix.name,
             index_screw_length_mm=ix_len, index_recess_mm=recess))
     return tuple(out)
 
 
 # ----------------------------------------------------------------------------------------------- fasteners
-def _set_screw(n: SpoolNumbers, size: str) -> Fastener:
+def _set_screw(n: SpoolNumbers, size: str, after: tuple[str, ...] = ()) -> Fastener:
     a = n.set_screw_angle_rad
-    x_head = n.shaft_flat_mm + n.set_screw_length_mm
+    x_head = n.shaft_flat_mm + n.set_screw_length_mm      # the boss's face: the screw ends flush with it
     return Fastener(
-        label=f"spool_{n.joint}_set_screw", size=size, kind="set_screw", seat="nut",
+        label=f"spool_{n.joint}_set_screw", size=size, kind="set_screw", seat="insert",
         head_mm=n.to_body(x_head, a, n.set_screw_z_mm), axis=(-math.cos(a), -math.sin(a), 0.0),
-        length_mm=n.set_screw_length_mm, grip_mm=x_head - n.nut_trap_x_mm[1],
-        head_part=f"spool_{n.joint}", thread_part=f"spool_{n.joint}",
+        length_mm=n.set_screw_length_mm, grip_mm=0.0, head_part=None, thread_part=f"spool_{n.joint}",
         joins=f"spool {n.joint} to its motor's shaft (on the flat)", link=0,
-        recess_mm=n.hub_radius_mm - x_head, meta={"nut_open_mm": 0.0})
+        installed_after=after)
 
 
-def _index_screw(n: SpoolNumbers, angle_upper: float | None = None) -> Fastener:
+def _index_screw(n: SpoolNumbers, angle_upper: float | None = None, after: tuple[str, ...] = ()) -> Fastener:
     a = n.index_angles_upper_rad[0] if angle_upper is None else angle_upper
     z_head = n.upper_flange_z_mm[1] - n.index_recess_mm
     return Fastener(
@@ -290,16 +312,18 @@ def _index_screw(n: SpoolNumbers, angle_upper: float | None = None) -> Fastener:
         length_mm=n.index_screw_length_mm, grip_mm=z_head - n.split_z_mm,
         head_part=f"spool_{n.joint}_upper", thread_part=f"spool_{n.joint}",
         joins=f"spool {n.joint}'s halves, through one aligned pair of vernier index holes (the cable tensioner)",
-        link=0, recess_mm=n.index_recess_mm)
+        link=0, recess_mm=n.index_recess_mm, installed_after=after)
 
 
 def spool_fasteners(p: Params) -> tuple[Fastener, ...]:
     """Every spool's set screw (in a nut in the hub, on the shaft's flat) and index screw (upper half to lower,
     through the pair of index holes that line up at rest)."""
+    from swiftfin.layout.hull_plan import head_lid_labels
     size = fastener(p.spool.set_screw_diameter_mm).name
+    lid = head_lid_labels(p)       # the head is closed after the spools are fixed and tensioned
     out = []
     for n in spool_numbers(p):
-        out += [_set_screw(n, size), _index_screw(n)]
+        out += [_set_screw(n, size, lid), _index_screw(n, after=lid)]
     return tuple(out)
 
 
@@ -370,13 +394,13 @@ def _bore_cutter(n: SpoolNumbers, z0: float, z1: float, flat: bool) -> Solid:
     return rod.cut(half).rotate(Axis.Z, math.degrees(n.set_screw_angle_rad))
 
 
-def _nut_slot(n: SpoolNumbers) -> Solid:
-    """The way the set screw's nut drops into its trap: from the hub's underside up to the trap's centre, as wide as
-    the nut across its corners (the registry cuts the trap itself from the fastener record)."""
-    x0, x1 = n.nut_trap_x_mm
-    h = n.nut_trap_half_width_mm
-    z0, z1 = n.hub_z_mm[0] - 1, n.set_screw_z_mm
-    box = Solid.make_box(x1 - x0, 2 * h, z1 - z0, Plane.XY.offset(z0)).translate((x0, -h, 0))
+def _set_screw_boss(n: SpoolNumbers) -> Solid:
+    """The hub's boss for the set screw's insert: as wide as the hub, over the hub's height, from the axis out to
+    its flat face (the registry cuts the insert's pocket from the fastener record)."""
+    h = n.set_screw_boss_half_width_mm
+    x1 = n.set_screw_boss_x_mm[1]
+    z0, z1 = n.hub_z_mm
+    box = Solid.make_box(x1, 2 * h, z1 - z0, Plane.XY.offset(z0)).translate((0.0, -h, 0))
     return box.rotate(Axis.Z, math.degrees(n.set_screw_angle_rad))
 
 
@@ -428,6 +452,8 @@ def spool_solid(n: SpoolNumbers, half: str = "whole", *, groove: bool = True, an
     else:
         keep = Solid.make_box(big, big, n.upper_flange_z_mm[1] - n.split_z_mm + 2, Plane.XY.offset(n.split_z_mm))
         z_span = (n.split_z_mm, n.upper_flange_z_mm[1])
+    if set_screw and half == "lower":
+        body = body.fuse(_set_screw_boss(n)).clean()
     body = _one(body.intersect(keep.translate((-big / 2, -big / 2, 0))), f"spool_{n.joint} {half}")
     cutters: list[Solid] = []
     if groove:
@@ -436,8 +462,6 @@ def spool_solid(n: SpoolNumbers, half: str = "whole", *, groove: bool = True, an
         cutters += _anchor_cutters(n, +1 if half == "upper" else -1)
     if bore:
         cutters.append(_bore_cutter(n, *z_span, flat=half == "lower"))
-    if set_screw and half == "lower":
-        cutters.append(_nut_slot(n))
     if index:
         cutters += _index_cutters(n, half)
     if cutters:

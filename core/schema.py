@@ -179,8 +179,11 @@ class Spool:
     index_screw_diameter_mm: float = p(2.0, min(SCREWS), max(SCREWS), "Screw that locks the split spool's halves "
                                        "through one aligned pair of vernier index holes (self-tapped in the lower half)",
                                        "Engineering default; sizes of catalogues/fasteners.toml", choices=SCREWS)
-    index_holes_upper: int = p(10, 2, 40, "Index holes in the upper half of the split spool (vernier with the lower; "
-                               "coprime counts give 360 / (upper x lower) deg steps)", "Engineering default (4 deg steps)")
+    index_holes_upper: int = p(7, 2, 40, "Index holes in the upper half of the split spool (vernier with the lower; "
+                               "coprime counts give 360 / (upper x lower) deg steps)",
+                               "Engineering default (5.7 deg steps with 9 below). Issue 12: 10 holes (4 deg) left "
+                               "0.23 mm between the index hole nearest the anchor (18 deg off) and the upper crimp's "
+                               "seat; 7 puts it 25.7 deg off, 0.98 mm of wall on the 20 mm drum")
     index_holes_lower: int = p(9, 2, 40, "Index holes in the lower half of the split spool", "Engineering default")
     mu_cable_drum: float = p(0.35, 0.02, 1.0, "Cable-on-drum friction coefficient", f"{PAPER} §2.3.1 (nylon on PLA 0.35)")
     mu_dynamic: float = p(0.15, 0.01, 1.0, "Dynamic friction coefficient in eq. 26", f"{PAPER} §2.3.4 (0.15)")

@@ -179,42 +179,52 @@ def _at(n, r, angle, z):
     return Vector(*n.to_body(r, angle, z))
 
 
-def test_set_screw_sits_in_a_nut_trap_with_two_perimeters_round_it(spools):
-    """Issue 12: a set screw cannot cut its own thread. The record is a set screw in a steel nut; on the solid the
-    hex trap is open at the declared place, the nut drops in from the hub's underside, and the hub keeps at
-    least two perimeters round the trap (toward the bore, the flange above and the hub's surface)."""
+def test_set_screw_sits_in_an_insert_with_its_wall_round_it(spools):
+    """Issue 12: a set screw cannot cut its own thread. The record is a set screw in a brass heat-set insert in a
+    boss of the hub, flush with the boss's flat face when it bears on the shaft's flat; on the solid the pocket is
+    open at the declared place and the boss keeps the insert maker's wall (at least two perimeters) round it, to
+    its sides and below it (the lower flange is above). Its key reaches it from the side before the head's upper
+    halves go on."""
+    from swiftfin.catalogues.fasteners import fastener
+    from swiftfin.layout.hull_plan import head_lid_labels
     p = Params()
     w = 2 * p.print.line_width_mm
+    ss = fastener(p.spool.set_screw_diameter_mm)
+    wall = max(w, ss.insert_wall_min_mm)
     recs = {f.label: f for f in spool_fasteners(p)}
     for n in spool_numbers(p):
         f = recs[f"spool_{n.joint}_set_screw"]
-        assert f.kind == "set_screw" and f.seat == "nut" and f.problems() == []
-        assert f.thread_part == f"spool_{n.joint}"
-        # its tip bears on the shaft's flat, along the flat's normal
+        assert f.kind == "set_screw" and f.seat == "insert" and f.problems() == []
+        assert f.thread_part == f"spool_{n.joint}" and f.head_part is None and f.grip_mm == 0.0
+        assert f.engagement_mm == pytest.approx(ss.insert_length_mm)
+        assert set(f.installed_after) == set(head_lid_labels(p)) and f.installed_after
+        # its tip bears on the shaft's flat, along the flat's normal; its other end is the boss's face
         tip = np.asarray(f.tip_mm)
         a = n.set_screw_angle_rad
         assert np.allclose(tip, n.to_body(n.shaft_flat_mm, a, n.set_screw_z_mm), atol=1e-9)
+        x_floor, x_face = n.set_screw_boss_x_mm
+        assert np.allclose(f.head_mm, n.to_body(x_face, a, n.set_screw_z_mm), atol=1e-9)
+        assert x_face - ss.insert_pocket_depth_mm >= x_floor - 1e-9      # the pocket's floor
+        assert x_floor - n.flat_distance_mm >= w - 1e-9                  # two perimeters to the bore's flat
+        # a quarter turn from the anchors, square to the side
+        assert math.cos(a - n.anchor_angles_rad[0]) == pytest.approx(0.0, abs=1e-9)
+        assert abs(math.sin(a)) == pytest.approx(1.0)
         solid = _lower(spools, n.joint).solid
-        x_in, x_out = n.nut_trap_x_mm
-        x_mid, h = (x_in + x_out) / 2, n.nut_trap_half_width_mm
         side = a + math.pi / 2
         z = n.set_screw_z_mm
-        off = lambda dy, dz: Vector(*(np.asarray(n.to_body(x_mid, a, z + dz))  # noqa: E731
-                                      + dy * np.array([math.cos(side), math.sin(side), 0.0])))
-        assert not solid.is_inside(off(0.0, 0.0))                       # the nut's place
-        assert not solid.is_inside(off(0.8 * h, 0.0))                   # a hex corner, beyond the screw's hole
-        assert not solid.is_inside(off(0.0, -(z - n.hub_z_mm[0]) + 0.3))  # the drop slot, at the hub's underside
-        flats = p.spool.set_screw_diameter_mm and (x_out - x_in)         # trap depth along the screw
-        assert flats > 0
-        af = 2 * h * math.sqrt(3) / 2                                   # across flats
-        assert solid.is_inside(off(0.0, af / 2 + w - 0.05)) or z + af / 2 + w > n.hub_z_mm[1]
-        assert solid.is_inside(off(0.0, af / 2 + 0.3))                  # material above the nut
-        # two perimeters between the trap's inner face and the bore's flat; between its corner and the hub surface
-        assert x_in - n.flat_distance_mm >= w - 1e-9
-        assert n.hub_radius_mm - math.hypot(x_out, h) >= w - 1e-9
-        assert solid.is_inside(_at(n, x_in - 0.5 * w, a, z + 0.6 * af / 2))
-        # the screw's way out to the hub's surface is open (the key reaches it)
-        assert not solid.is_inside(_at(n, n.hub_radius_mm - 0.1, a, z))
+        r_p = ss.insert_hole_mm / 2
+        for x in (x_face - 0.3, (x_face + x_floor) / 2 + 0.5, x_face - ss.insert_length_mm + 0.3):
+            off = lambda dy, dz: Vector(*(np.asarray(n.to_body(x, a, z + dz))  # noqa: E731
+                                          + dy * np.array([math.cos(side), math.sin(side), 0.0])))
+            assert not solid.is_inside(off(0.0, 0.0))                   # the insert's place
+            assert not solid.is_inside(off(0.9 * r_p, 0.0)) and not solid.is_inside(off(0.0, -0.9 * r_p))
+            for dy, dz in ((r_p + wall - 0.02, 0.0), (-(r_p + wall - 0.02), 0.0), (0.0, -(r_p + wall - 0.02))):
+                assert solid.is_inside(off(dy, dz))                     # the wall round the pocket
+        assert n.set_screw_boss_half_width_mm >= r_p + wall - 1e-9
+        assert z - n.hub_z_mm[0] >= r_p + wall - 1e-9
+        # the boss's face is the hub's outer face there: nothing beyond it
+        assert not solid.is_inside(_at(n, x_face + 0.1, a, z))
+        assert solid.is_inside(_at(n, x_face - 0.1, a, z + r_p + 0.3))
 
 
 def test_ridges_are_at_least_one_line_wide_on_the_solid(spools):

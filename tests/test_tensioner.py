@@ -33,12 +33,13 @@ def test_need_and_count_closed_form():
     assert t.creep_mm == pytest.approx(0.03 * loop)
     assert t.tolerance_mm == pytest.approx(2 * 3.0)
     assert t.available_mm == pytest.approx(0.75 * 2 * math.pi * 10.0)
-    # count: a vernier of 10 and 9 holes steps 4 deg; each step takes in r x 4 deg of loop
-    assert t.step_deg == pytest.approx(4.0)
-    assert t.step_mm == pytest.approx(10.0 * math.radians(4.0))
+    # count: a vernier of 7 and 9 holes steps 360 / 63 = 5.714 deg; each step takes in r x that of loop
+    step = 360.0 / (7 * 9)
+    assert t.step_deg == pytest.approx(step)
+    assert t.step_mm == pytest.approx(10.0 * math.radians(step))
     k = ea / loop                                                                 # N/mm
     assert t.stiffness_n_mm == pytest.approx(k)
-    assert t.newton_per_step == pytest.approx(k * 10.0 * math.radians(4.0))
+    assert t.newton_per_step == pytest.approx(k * 10.0 * math.radians(step))
     assert t.steps_per_newton == pytest.approx(1 / t.newton_per_step)
     assert t.steps_to_pretension == pytest.approx(45.0 / t.newton_per_step)
     assert t.degrees_per_newton == pytest.approx(math.degrees(loop / (ea * 10.0)))
