@@ -149,6 +149,55 @@ def joint_link_problems(p: Params) -> list[Problem]:
     return [pr for j in range(1, p.joints.count + 1) for pr in _joint_hardware(p, j)[1]]
 
 
+def passage_lines_mm(p: Params, x_mm: float) -> tuple[tuple[tuple, tuple], ...]:
+    """(point, unit direction) of every cable route's segment where it crosses the plane x = ``x_mm`` (body frame):
+    the axes of the PTFE tube passages :mod:`swiftfin.cad.hull` cuts through a bulkhead whose mid-plane that is."""
+    out = []
+    for r in L.cable_routes(p):
+        pts = r.points_mm
+        for a, b in zip(pts[:-1], pts[1:]):
+            if (a[0] - x_mm) * (b[0] - x_mm) < 0:
+                f = (x_mm - a[0]) / (b[0] - a[0])
+                out.append((tuple(u + f * (v - u) for u, v in zip(a, b)), _unit([v - u for u, v in zip(a, b)])))
+    return tuple(out)
+
+
+def passage_radius_mm(p: Params) -> float:
+    """Radius of a cable's passage through a bulkhead: the PTFE tube's and the sliding clearance (cad/hull.py)."""
+    return p.guides.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
+
+
+def _row_clear_of_passages(p: Params, x_front_mm: float, s: ScrewSize, y_mm: float, rows_z_mm) -> float:
+    """The least |y| >= ``y_mm`` of the flange screws' rows at which every insert pocket (along -x from the child's
+    front bulkhead face ``x_front_mm``, ``s.insert_pocket_depth_mm`` deep, at y = +-|y| and each z of ``rows_z_mm``)
+    keeps its insert maker's wall (at least two perimeters) and :data:`ROW_MARGIN_MM` from every cable passage
+    through that bulkhead (axis to axis, sampled along the pocket every 0.1 mm; |y| in 0.05 mm steps)."""
+    t = p.hull.bulkhead_thickness_mm
+    lines = passage_lines_mm(p, x_front_mm - t / 2)
+    need = (s.insert_hole_mm / 2 + passage_radius_mm(p) + max(s.insert_wall_min_mm, 2 * p.print.line_width_mm)
+            + ROW_MARGIN_MM)
+    depth = s.insert_pocket_depth_mm
+    xs = [x_front_mm - depth * k / max(int(depth / 0.1), 1) for k in range(max(int(depth / 0.1), 1) + 1)]
+
+    def clear(y: float) -> bool:
+        for (q, d) in lines:
+            for sy in (1, -1):
+                for z in rows_z_mm:
+                    for xx in xs:
+                        v = (xx - q[0], sy * y - q[1], z - q[2])
+                        along = sum(a * b for a, b in zip(v, d))
+                        if math.sqrt(max(sum(c * c for c in v) - along * along, 0.0)) < need - 1e-9:
+                            return False
+        return True
+
+    y = y_mm
+    for _ in range(400):                   # at most 20 mm out; the room checks below refuse what does not fit
+        if clear(y):
+            return y
+        y += 0.05
+    return y
+
+
 def _unit(v) -> tuple:
     n = math.sqrt(sum(c * c for c in v))
     return tuple(c / n for c in v)
@@ -302,6 +351,10 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     z_hi = z_sec_lo - e_z                     # in the window under the sector, where the driver's path is clear
     if z_hi < split_keep or z_hi - z_lo < 2 * e_z:
         z_hi = max(z_sec_hi + e_z, split_keep)   # else above the sector, in an ear beside the upper lug
+    # the inserts keep their maker's wall, and the row margin, from the cable passages through the child's front
+    # bulkhead (issue 12: joint 1's left cable leaves the hinge aft and outward and came within 1.32 mm of the upper
+    # +y insert, whose wall must be 1.44 mm)
+    y_s = _row_clear_of_passages(p, x - g2, s, y_s, (z_lo, z_hi))
     fz = (min(z_lo - e_z, z_win_lo), max(z_hi + e_z, z_sec_hi))
     keep_out = ((fz[0] - 1.0, z_win_lo, keep_lo), (z_sec_hi, fz[1] + 1.0, keep_hi))
     w_f = y_s + max(head_r, s.clearance_hole_mm / 2 + web) + ROW_MARGIN_MM
