@@ -163,7 +163,19 @@ def ridge_width_mm(p: Params) -> float:
 
 def spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
     """The numbers of every spool (index j-1 for joint j). Raises UserError if the design leaves a ridge under a
-    line width, or no room for the hub, the anchors, the index holes or the screws."""
+    line width, or no room for the hub, the anchors, the index holes or the screws; a refusal of the design every
+    spool shares ("spool: ...") ends by naming the parts it refuses."""
+    try:
+        return _spool_numbers(p)
+    except UserError as e:
+        text = str(e)
+        if not text.startswith("spool:"):
+            raise
+        parts = ", ".join(f"spool_{mp.joint + 1}" for mp in motor_placements(p))
+        raise UserError(f"{text} (parts {parts})") from None
+
+
+def _spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
     d = spool_dims(p)
     s, m, pr = p.spool, p.motor, p.print
     w = WALL_LINES * pr.line_width_mm
