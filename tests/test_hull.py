@@ -14,7 +14,7 @@ from swiftfin.layout.mount_plan import mount_fixings_mm
 from swiftfin.cad.fin import make_caudal_fin
 from swiftfin.cad.hull import (bed_rotation_deg, flooded, hull_pieces, hull_section_semi_axes_mm,
                                make_hull_segments, nose_cap, piece_parts, piece_solid)
-from swiftfin.cad.link import joint_hardware, make_joint_links
+from swiftfin.cad.link import joint_hardware
 from swiftfin.core.errors import UserError
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.GeomAbs import GeomAbs_Cylinder
