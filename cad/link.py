@@ -43,7 +43,8 @@ plane are measured about the joint axis from +x (forward) toward +y):
   (fixed in the link: toward the next hinge line or the next sector's tangent point, up to 24 deg off the body
   axis); ahead of it a fan of holes along the route's previous segment turned by every angle within the stop
   angle + 2 deg (that segment is fixed in the parent), one revolved solid (:func:`fan_cutter`). The arm is widened so the angled holes keep two perimeters
-  to its sides; there is no window column ahead of the axis.
+  to its sides; there is no window column ahead of the axis, so a small cap on the window's floor (under its
+  ceiling) closes each pin bore with the same web (:func:`bore_caps`).
 * **Hard stops**: a tongue of half-angle ``beta`` pointing forward on the lower knuckle; the parent carries
   two blocks on its lower lug whose radial faces lie at +/- (beta + theta_stop). The tongue's faces meet
   them when the joint reaches +/- ``swiftfin.layout.geometry.joint_stop_angles_rad(p)[j-1]``.
@@ -182,6 +183,36 @@ def flange_solid(h: JointHardware) -> bd.Solid:
     return plate.cut(*[vcyl(h.x_mm, 0, r, z0, z1) for z0, z1, r in h.flange_keep_out_mm if z1 > z0])
 
 
+CAP_PAST_WEB_MM = 0.2
+"""A bore cap reaches this far past the bore's web into the pass-through hole's clearance, where the hole's cutter
+trims it (see :func:`bore_caps`) [mm]."""
+
+
+def bore_caps(p: Params, h: JointHardware) -> list[bd.Solid]:
+    """Caps that keep the pins' bores blind. With no window column ahead of the axis, the lower bore (its cutter
+    overruns the pin's end by ``BORE_OVERRUN_MM``) would open on the window's floor, and the upper one end less than a
+    web above its ceiling. A disc over the bore stands on the floor (hangs from the ceiling) until the bore's end is
+    a web of :data:`swiftfin.layout.geometry.MIN_WEB_LINES` line widths inside the material, and
+    ``CAP_PAST_WEB_MM`` more: the nearest pass-through hole's edge may lie exactly a web beyond the bore's end, so
+    the cap reaches into the hole's clearance and the hole's own cutters trim it (a cap face tangent or coplanar to
+    a hole leaves an edge the mesh cannot close). Its radius stays ``CAP_PAST_WEB_MM`` inside the hole's, so no
+    sliver stands beside a hole."""
+    from swiftfin.layout.joints import BORE_OVERRUN_MM
+    web = L.MIN_WEB_LINES * p.print.line_width_mm
+    r = min(h.bore_radius_mm + web, h.hole_diameter_mm / 2 - CAP_PAST_WEB_MM)
+    lower, upper = h.pins
+    out = []
+    if h.z_sector_lo_mm <= h.z_window_lo_mm:
+        return out                                              # no window (the last joint): the bores end inside
+    end = lower.inner_z_mm + BORE_OVERRUN_MM                    # the lower bore's end
+    if end + web > h.z_window_lo_mm + 1e-9:
+        out.append(vcyl(h.x_mm, 0.0, r, h.z_window_lo_mm - 0.5, end + web + CAP_PAST_WEB_MM))   # from in the knuckle
+    end = upper.inner_z_mm - BORE_OVERRUN_MM
+    if end - web < h.z_sector_lo_mm - 1e-9:
+        out.append(vcyl(h.x_mm, 0.0, r, end - web - CAP_PAST_WEB_MM, h.z_sector_lo_mm + 0.5))  # to in the sector
+    return out
+
+
 def link_solid(p: Params, h: JointHardware) -> bd.Solid:
     """The link without its fastener holes (the pin bores and the flange inserts come from the records)."""
     x = h.x_mm
@@ -218,6 +249,13 @@ def link_solid(p: Params, h: JointHardware) -> bd.Solid:
     # cuts as it should
     for c in cuts:
         body = body.cut(c)
+    # the bores' caps, trimmed by the pass-through holes on their own and fused last (fused before the cuts, a
+    # 3-joint design's link came out inside out)
+    holes = cable_hole_cutters(h)
+    for cap in bore_caps(p, h):
+        for c in holes:
+            cap = cap.cut(c)
+        body = body.fuse(cap).clean()
     # trim at the child's bulkhead face
     body = isect(body, box(x_back, x + big, -big, big, min(z0, h.flange_z_mm[0]) - 1, max(zt, h.flange_z_mm[1]) + 1))
     return one_solid(body, f"joint_link_{h.joint}")

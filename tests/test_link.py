@@ -12,6 +12,7 @@ from OCP.GeomAbs import GeomAbs_Torus
 
 from swiftfin.layout import geometry as L
 from swiftfin.cad.link import joint_hardware, joint_link_problems, make_joint_links
+from swiftfin.layout.joints import BORE_OVERRUN_MM
 from swiftfin.core.errors import UserError
 from swiftfin.core.schema import Params
 from tests.golden_check import check_golden
@@ -214,9 +215,16 @@ def test_webs_around_the_pass_through_holes_are_two_perimeters(holed_links, j):
     for a, b in zip(levels, levels[1:]):
         assert (b - hr) - (a + hr) >= web - 1e-9
         assert inside(x_behind, 0.5 * (a + b)), (j, a, b)
-    # blind pin bores: the web between each bore's end and the nearest hole, on the axis
+    # blind pin bores: each open to its pin's end (+ the cutters' overrun: the pins' records, ISO lengths) and a web
+    # of two perimeters between that end and the nearest hole (and the window: no column ahead of the axis), on
+    # the axis, over the web's whole height
     rb = h.bore_radius_mm
-    assert not inside(h.x_mm, levels[0] - hr - web - 0.2)                # lower bore
-    assert inside(h.x_mm + 0.5 * rb, levels[0] - hr - 0.5 * web)          # web above it
-    assert inside(h.x_mm + 0.5 * rb, levels[-1] + hr + 0.5 * web)         # web under the upper bore
-    assert not inside(h.x_mm, levels[-1] + hr + web + 0.2)               # upper bore
+    lo_end = h.pins[0].inner_z_mm + BORE_OVERRUN_MM
+    hi_end = h.pins[1].inner_z_mm - BORE_OVERRUN_MM
+    assert lo_end <= levels[0] - hr - web + 1e-9 and hi_end >= levels[-1] + hr + web - 1e-9
+    assert not inside(h.x_mm, lo_end - 0.2)                               # lower bore
+    for z in (lo_end + 0.1, lo_end + 0.5 * web, lo_end + web - 0.1, levels[0] - hr - 0.5 * web):
+        assert inside(h.x_mm + 0.5 * rb, z), (j, z)                       # web above it
+    for z in (hi_end - web + 0.1, hi_end - 0.5 * web, hi_end - 0.1, levels[-1] + hr + 0.5 * web):
+        assert inside(h.x_mm + 0.5 * rb, z), (j, z)                       # web under the upper bore
+    assert not inside(h.x_mm, hi_end + 0.2)                               # upper bore
