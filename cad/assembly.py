@@ -135,6 +135,8 @@ CONTACTS: tuple[Contact, ...] = (
             "motor's mount (cad/guide.py)"),
     Contact(r"guide_bay", r"motor_mount_1", "the bay guide is screwed onto posts at the aft edge of motor_mount_1 "
             "(cad/guide.py)"),
+    Contact(r"flotation_\d+", r"hull_.+", "a flotation foam block is glued into the lower "
+            "half of its flooded segment where its sides meet the shell (layout/flotation_plan.py)", link_delta=0),
     Contact(r"spool_(?P<j>\d+)_upper", r"spool_(?P<j>\d+)", "the split spool's upper half sits on the lower half "
             "at the cable plane, locked by the index screw (cad/spool.py)"),
     Contact(r"spool_(?P<j>\d+)_upper", r"motor_(?P<j>\d+)", "the spool's upper half turns on its motor's shaft "

@@ -232,8 +232,13 @@ class Glued:
     reason: str
 
 
-GLUED: tuple[Glued, ...] = ()
-"""Pairs declared glued (none in the default design: every joint comes apart for service)."""
+GLUED: tuple[Glued, ...] = (
+    Glued(r"flotation_\d+", r"hull_.+", 0.0,
+          "a flotation foam block is glued into its flooded segment's lower shell (its lift, under 0.2 N, needs "
+          "no rated bond area: any contact glue holds it; area 0 = not sized). Every other joint comes apart "
+          "for service"),
+)
+"""Pairs declared glued, with the bonded area (mm^2) where the joint carries a load worth sizing."""
 
 
 def joined_parts(f: Fastener) -> set[str]:

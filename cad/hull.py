@@ -60,7 +60,7 @@ from swiftfin.cad.part import PartSpec
 from swiftfin.core.schema import Params
 
 from swiftfin.layout.hull_plan import (  # noqa: F401  the numbers, re-exported for the part family
-    SPLICE_LENGTH_MM, HullPiece, NoseCap, SeamFeature, SpliceJoint, bed_rotation_deg, flooded, hull_fasteners,
+    SPLICE_LENGTH_MM, HullPiece, cavity_range_mm, NoseCap, SeamFeature, SpliceJoint, bed_rotation_deg, flooded, hull_fasteners,
     hull_pieces, hull_section_semi_axes_mm, nose_cap, printed_size_mm, seam_features, splice_joint)
 
 
@@ -119,20 +119,7 @@ def _bulkheads(p: Params, pc: HullPiece) -> list[tuple[float, float]]:
 
 
 def _cavity_range(p: Params, pc: HullPiece) -> tuple[float, float]:
-    t = p.hull.bulkhead_thickness_mm
-    if pc.nose:
-        s0 = nose_cap(p).s_cap_mm
-    elif pc.front_joint is not None:
-        s0 = pc.s_start_mm + t
-    else:
-        s0 = pc.s_start_mm - 1.0
-    if pc.tail:
-        s1 = pc.s_end_mm - p.caudal_fin.mount_length_mm - p.print.clearance_sliding_mm - t
-    elif pc.rear_joint is not None:
-        s1 = pc.s_end_mm - t
-    else:
-        s1 = pc.s_end_mm + 1.0
-    return s0, s1
+    return cavity_range_mm(p, pc)
 
 
 def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:

@@ -273,6 +273,12 @@ def cross_field_problems(p: Params) -> list[Problem]:
         out.append(Problem("hull.flooded_from_joint", p.hull.flooded_from_joint,
                            f"must be a joint 1..{j.count}, or {j.count + 1} for a hull sealed throughout "
                            f"(joints.count = {j.count})"))
+    n_flooded = max(0, j.count + 1 - p.hull.flooded_from_joint)
+    if p.environment.flotation_foam_segments > n_flooded:
+        out.append(Problem("environment.flotation_foam_segments", p.environment.flotation_foam_segments,
+                           f"at most the {n_flooded} flooded segment(s) behind hull.flooded_from_joint = "
+                           f"{p.hull.flooded_from_joint} (foam in a sealed segment lifts nothing: its envelope "
+                           f"already displaces water)"))
     m = p.motor
     if len(m.pullout_curve_steps_per_s) != len(m.pullout_curve_torque_nm):
         out.append(Problem("motor.pullout_curve_torque_nm", list(m.pullout_curve_torque_nm),

@@ -270,6 +270,15 @@ class Environment:
                                      "computed from the mass model; it is listed as the part trim_ballast)",
                            source="Engineering default")
     ballast_density_kg_m3: float = p(11340.0, 2000.0, 20000.0, "Density of the trim ballast", "Lead (11.34 g/cm^3)")
+    flotation_foam_segments: int = p(2, 0, 8, "Flooded hull segments, from hull.flooded_from_joint aft, that get a "
+                                     "block of closed-cell foam glued into their lower half under the cables "
+                                     "(the lift a fish heavier than its displacement needs; the lead then trims "
+                                     "it level). 0: none",
+                                     "Design choice: the fasteners, tubes and cables of a buildable fish weigh "
+                                     "more than the sealed head's spare displacement (exports/water.py)")
+    foam_density_kg_m3: float = p(100.0, 30.0, 900.0, "Density of the flotation foam",
+                                  "Closed-cell PVC foam for marine cores, e.g. Divinycell H100 (100 kg/m^3, "
+                                  "DIAB datasheet); it does not soak up water, unlike open-cell or EPS foam")
     water_temperature_c: float = p(20.0, 0.0, 40.0, "Water temperature", "Engineering default (a pool or a tank)")
     heat_transfer_water_w_m2_k: float = p(200.0, 10.0, 10000.0, "Convection from the hull to the water",
                                           "Natural convection in water 100-1000 W/m^2 K (Incropera & DeWitt, Table "

@@ -119,6 +119,8 @@ def bought_part_lines(p: Params, specs) -> list[BomLine]:
             item = "Stepper motor"
         elif s.label in placeholders:
             continue   # a mass placeholder for the screws, which are listed one by one
+        elif s.meta.get("bom_item"):
+            item, spec = s.meta["bom_item"], s.meta.get("bom_spec", "")
         else:
             spec = f"{s.mass_kg * 1000:g} g" if s.mass_kg else ""
             item = s.label.replace("_", " ").capitalize()

@@ -72,7 +72,7 @@ def trim_ballast(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, floo
     out = {"ballast_density_kg_m3": rho_b, "excess_buoyancy_kg": rho_w * V - M}
     if rho_w * V - M <= 0:
         return {**out, "possible": False,
-                "reason": f"the fish sinks by {M - rho_w * V:.4g} kg: ballast cannot trim it (it needs flotation)"}
+                "reason": f"the fish sinks by {M - rho_w * V:.4g} kg: ballast cannot trim it (it needs more flotation: environment.flotation_foam_segments, foam_density_kg_m3)"}
     x_m = None
     for in_flooded in (True, False):
         m = (rho_w * V - M) / (1.0 - rho_w / rho_b) if in_flooded else rho_w * V - M

@@ -182,6 +182,25 @@ def hull_pieces(p: Params) -> tuple[HullPiece, ...]:
     return tuple(out)
 
 
+def cavity_range_mm(p: Params, pc: HullPiece) -> tuple[float, float]:
+    """Stations [s0, s1] of the piece's hollow: inside its bulkheads, behind the nose cap, ahead of the fin's
+    socket; an open (cut) end runs 1 mm past the piece."""
+    t = p.hull.bulkhead_thickness_mm
+    if pc.nose:
+        s0 = nose_cap(p).s_cap_mm
+    elif pc.front_joint is not None:
+        s0 = pc.s_start_mm + t
+    else:
+        s0 = pc.s_start_mm - 1.0
+    if pc.tail:
+        s1 = pc.s_end_mm - p.caudal_fin.mount_length_mm - p.print.clearance_sliding_mm - t
+    elif pc.rear_joint is not None:
+        s1 = pc.s_end_mm - t
+    else:
+        s1 = pc.s_end_mm + 1.0
+    return s0, s1
+
+
 def flooded(p: Params, link: int) -> bool:
     """Whether the hull segments of ``link`` flood (``hull.flooded_from_joint``)."""
     return link >= p.hull.flooded_from_joint

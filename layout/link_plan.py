@@ -8,18 +8,21 @@ from __future__ import annotations
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.core.schema import Params
 from swiftfin.layout.fastening import Fastener, screw_length
+from swiftfin.layout.flotation_plan import foam_blocks
 from swiftfin.layout.hull_plan import hull_pieces, part_label
 from swiftfin.layout.joints import all_joint_hardware
 
 
 def _earlier_parts(p: Params, j: int) -> tuple[str, ...]:
     """Labels of every part of the links ahead of joint j (0 .. j-1): the tail is assembled from the peduncle
-    forward, so they go on after joint j's flange screws are driven (the driver reaches them from the front)."""
+    forward, so they go on after joint j's flange screws are driven (the driver reaches them from the front). A
+    flotation block goes in with the lower half it is glued into."""
     out = []
     for pc in hull_pieces(p):
         if pc.link < j:
             out += sorted({part_label(p, pc, "upper"), part_label(p, pc, "lower")})
     out += [f"joint_link_{k}" for k in range(1, j)]
+    out += [blk.label for blk in foam_blocks(p) if blk.link < j]     # glued in with their lower halves
     n = p.joints.count
     out += [f"{fam}_{k}" for k in range(1, n + 1) for fam in ("motor", "motor_mount", "spool")]
     out += [f"spool_{k}_upper" for k in range(1, n + 1)] + [f"guide_exit_{k}" for k in range(2, n + 1)] + ["guide_bay"]
