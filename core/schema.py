@@ -273,7 +273,7 @@ class Environment:
     flotation_foam_segments: int = p(2, 0, 8, "Flooded hull segments, from hull.flooded_from_joint aft, that get a "
                                      "block of closed-cell foam glued into their lower half under the cables "
                                      "(the lift a fish heavier than its displacement needs; the lead then trims "
-                                     "it level). 0: none",
+                                     "what is left). 0: none",
                                      "Design choice: the fasteners, tubes and cables of a buildable fish weigh "
                                      "more than the sealed head's spare displacement (exports/water.py)")
     foam_density_kg_m3: float = p(100.0, 30.0, 900.0, "Density of the flotation foam",

@@ -46,10 +46,48 @@ def _guarded(check: Callable[[Params], list[Problem]], params: Params, earlier: 
                         "stations or the part sizes")]
 
 
+# The fastener and foam plans that need no CAD kernel, with the key a user changes when one cannot be made.
+_PLANS: tuple[tuple[str, str, str], ...] = (
+    ("swiftfin.layout.flotation_plan:foam_blocks", "environment.flotation_foam_segments", "the flotation blocks"),
+    ("swiftfin.layout.hull_plan:hull_fasteners", "hull.screw_diameter_mm", "the hull's seam and splice fasteners"),
+    ("swiftfin.layout.link_plan:link_fasteners", "joints.pin_diameter_mm", "the joints' pins, plugs and flange screws"),
+    ("swiftfin.layout.fin_plan:fin_fasteners", "caudal_fin.mount_length_mm", "the fin root's screws"),
+    ("swiftfin.layout.mount_plan:wall_fixings", "hull.screw_diameter_mm", "the motor mounts' wall fixings"),
+)
+
+
+def plan_problems(params: Params) -> list[Problem]:
+    """The fastener and flotation plans a build makes, made now: a design whose screws, pins or foam blocks cannot
+    be placed (no catalogue length long enough, no room between bulkheads) is refused by the loader, naming the
+    key to change, instead of failing half-way through a build."""
+    import importlib
+
+    from swiftfin.core.errors import BuildError, UserError
+    from swiftfin.core.params import get_key
+    out, seen = [], set()
+    for ref, key, what in _PLANS:
+        module, func = ref.split(":")
+        try:
+            getattr(importlib.import_module(module), func)(params)
+        except (UserError, BuildError) as exc:
+            text = str(exc)
+            if text in seen:            # one plan reads another (the links' order reads the foam blocks)
+                continue
+            seen.add(text)
+            own = text.split(": ", 1)[0].split(" = ")[0] if " = " in text.split(": ", 1)[0] else None
+            if own is not None:         # the plan named its own key: report it under that key, once
+                out.append(Problem(own, get_key(params, own), text.split(": ", 1)[1]))
+            else:
+                out.append(Problem(key, get_key(params, key), f"{what} cannot be made for this design: {text}"))
+    return out
+
+
 def _layout_level(params: Params, earlier: list[Problem]) -> list[Problem] | None:
     found = _guarded(layout_problems, params, earlier)
     if found == []:  # the links' own room (tendon wrap, stops, flange bolts) assumes a feasible layout
         found = _guarded(joint_link_problems, params, earlier)
+    if found == []:  # the fasteners and foam are placed in the room the layout leaves
+        found = _guarded(plan_problems, params, earlier)
     return found
 
 

@@ -1,0 +1,91 @@
+"""Flotation foam blocks (layout/flotation_plan.py, cad/bought.py): where they go, how big they are, and what the
+loader refuses. The volumes are checked two ways: the plan's numerical integral of its sections against the
+OpenCascade volume of the lofted, notched solid."""
+from __future__ import annotations
+
+import dataclasses
+import pytest
+
+from swiftfin.core.schema import Params
+from swiftfin.layout import geometry as L
+from swiftfin.layout.design import design_problems
+from swiftfin.layout.flotation_plan import foam_blocks, foam_lift_n
+from swiftfin.layout.hull_plan import hull_section_semi_axes_mm
+
+P = Params()
+
+
+def _with_env(**kw) -> Params:
+    return dataclasses.replace(P, environment=dataclasses.replace(P.environment, **kw))
+
+
+def test_default_design_has_a_block_in_each_of_the_first_two_flooded_segments():
+    blocks = foam_blocks(P)
+    assert [b.link for b in blocks] == [P.hull.flooded_from_joint, P.hull.flooded_from_joint + 1]
+    assert [b.glued_to for b in blocks] == ["hull_body_1_lower", "hull_body_2_lower"]
+
+
+def test_block_sits_under_every_cable_inside_the_hull_and_between_its_joints():
+    r = max(P.guides.ptfe_tube_od_mm, P.cable.diameter_mm) / 2
+    lowest = min(L.tendon_level_mm(P, j, s) for j in range(P.joints.count) for s in (-1, 1))
+    js = L.joint_stations_mm(P)
+    for b in foam_blocks(P):
+        assert b.z_top_mm <= lowest - r - P.print.clearance_assembly_mm + 1e-9
+        assert b.z_top_mm < 0.0                       # all of it in the lower half: the seam is z = 0
+        assert js[b.link - 1] < b.s0_mm < b.s1_mm < js[b.link]
+        for s in (b.s0_mm, b.s1_mm):
+            a, h = hull_section_semi_axes_mm(P, s)
+            ai, bi = a - P.hull.wall_thickness_mm, h - P.hull.wall_thickness_mm
+            for y, z in b.section_yz_mm(P, s):
+                assert (y / ai) ** 2 + (z / bi) ** 2 <= 1.0 + 1e-9, (b.label, s, y, z)
+
+
+def test_plan_volume_equals_the_occ_volume_of_the_solid():
+    pytest.importorskip("build123d")
+    from swiftfin.cad.bought import make_foam_blocks
+    specs = {s.label: s for s in make_foam_blocks(P)}
+    for b in foam_blocks(P):
+        s = specs[b.label]
+        v_occ = s.solid.volume
+        assert s.solid.is_valid
+        assert v_occ == pytest.approx(b.volume_mm3(P), rel=1e-3)
+        assert s.mass_kg == pytest.approx(P.environment.foam_density_kg_m3 * v_occ * 1e-9, rel=1e-12)
+        # the notches are really cut: the solid is smaller than the un-notched loft's section x length
+        assert v_occ < (b.s1_mm - b.s0_mm) * (b.z_top_mm - b.z_floor_mm) * 2 * b.y_max_mm
+
+
+def test_lift_is_the_displaced_water_less_the_foam():
+    b = foam_blocks(P)[0]
+    e = P.environment
+    assert foam_lift_n(P, b) == pytest.approx(
+        (e.water_density_kg_m3 - e.foam_density_kg_m3) * e.gravity_m_s2 * b.volume_mm3(P) * 1e-9)
+    assert foam_lift_n(P, b) > 0.1          # about 17 g: not a sliver
+
+
+def test_no_blocks_when_asked_for_none():
+    assert foam_blocks(_with_env(flotation_foam_segments=0)) == ()
+
+
+def test_loader_refuses_more_blocks_than_flooded_segments():
+    raw = {"hull": {"flooded_from_joint": 4}, "environment": {"flotation_foam_segments": 2}}
+    _, problems = design_problems(raw)
+    keys = [pr.key for pr in problems]
+    assert "environment.flotation_foam_segments" in keys
+    text = str(next(pr for pr in problems if pr.key == "environment.flotation_foam_segments"))
+    assert "1 flooded segment" in text
+
+
+def test_an_all_sealed_hull_with_no_foam_loads():
+    raw = {"hull": {"flooded_from_joint": P.joints.count + 1}, "environment": {"flotation_foam_segments": 0}}
+    _, problems = design_problems(raw)
+    assert problems == []
+
+
+def test_loader_refuses_a_block_with_no_room_naming_the_key_once():
+    # a 12 mm vent keeps the peduncle's block off the keel by 12 mm: it has no height left under the cables
+    raw = {"hull": {"vent_hole_diameter_mm": 12.0}, "environment": {"flotation_foam_segments": 4}}
+    _, problems = design_problems(raw)
+    assert len(problems) == 1, [str(x) for x in problems]
+    pr = problems[0]
+    assert pr.key == "environment.flotation_foam_segments" and pr.value == 4
+    assert "no room for a foam block in hull_peduncle" in pr.expected and "height" in pr.expected
