@@ -101,10 +101,13 @@ class Hull:
 @dataclass(frozen=True)
 class Joints:
     count: int = p(4, 1, 8, "Number of tail joints (one stepper each)", f"{PAPER} Table 2 (4 DOF)")
-    stations_fraction: tuple = p((0.545, 0.62, 0.695, 0.765), 0.05, 0.95,
+    stations_fraction: tuple = p((0.555, 0.62, 0.695, 0.765), 0.05, 0.95,
                                  "Joint axis stations / body length, nose to tail, strictly increasing",
                                  "Not in the paper; the motor row ahead of joint 1 and the 15 mm tendon sector "
-                                 "inside the NACA 0015 tail bound them to about 0.52-0.76",
+                                 "inside the NACA 0015 tail bound them to about 0.52-0.76; joint 1 at 0.555 "
+                                 "rather than the 0.545 the motors allow, so the built fish trims level (at "
+                                 "0.545 its COM sits 3.5 mm ahead of its COB and no lead inside the hull "
+                                 "levels it)",
                                  length=(1, 8))
     tendon_moment_arm_mm: float = p(15.0, 4.0, 60.0, "Radius of the tendon sector on each link (d_mount)",
                                     f"{PAPER} §3.4 (15 mm)")

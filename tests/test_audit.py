@@ -79,7 +79,7 @@ EXPECTED = {
 def _joint_amplitudes():
     """Eq. 47 absolute tangent and the relative joint angle, by brute force (independent of physics.kinematics)."""
     L, A, k, w = 0.52, 0.10, 2 * math.pi / 0.65, 2 * math.pi * 3
-    xs = np.array([0.545, 0.62, 0.695, 0.765]) * L
+    xs = np.array([0.555, 0.62, 0.695, 0.765]) * L
     t = np.linspace(0, 1 / 3, 720, endpoint=False)[:, None]
     y = lambda x: A * (x / L) ** 2 * np.sin(k * x - w * t)           # noqa: E731
     slope = 2 * A * xs / L**2 * np.sin(k * xs - w * t) + A * (xs / L) ** 2 * k * np.cos(k * xs - w * t)
