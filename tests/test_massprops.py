@@ -25,6 +25,18 @@ def pm():
     return mp.PrintModel.from_params(Params())
 
 
+# The side wall the slicer leaves before its infill, by hand: the outer loop's centre line half a 0.45 mm line
+# in, two more loops one spacing apart, the infill half a spacing beyond; spacing = width - height (1 - pi/4)
+# (two 0.2 mm high beads with round sides overlap by that much) = 0.45 - 0.2 x 0.214602 = 0.407080 mm.
+# W = 0.225 + 2.5 x 0.407080 = 1.242699 mm.
+W = 0.225 + 2.5 * (0.45 - 0.2 * (1 - math.pi / 4))
+
+
+def test_side_wall_is_half_a_line_and_two_and_a_half_spacings(pm):
+    assert W == pytest.approx(1.242699, abs=1e-6)
+    assert pm.wall_mm == pytest.approx(W, rel=1e-12)
+
+
 # ----------------------------------------------------------------------------------------------- solids
 def test_brep_inertia_of_a_rotated_offset_box_is_the_closed_form():
     solid = Box(10, 20, 30).rotate(Axis.Z, 30).moved(Location((5, 6, 7)))
@@ -84,10 +96,10 @@ def test_rotate_then_compute_equals_compute_then_rotate():
 
 # ----------------------------------------------------------------------------------------------- print model
 def test_layer_core_of_a_block_with_a_hole_is_the_closed_form(pm):
-    """Side walls w = 3 x 0.45, skins 5 x 0.2 on top and 4 x 0.2 below: a prism core, a bigger hole."""
+    """Side walls W (3 loops, see W), skins 5 x 0.2 on top and 4 x 0.2 below: a prism core, a bigger hole."""
     solid = Box(40, 30, 20) - Cylinder(5, 20)
     core = mp.layer_core(mp.tessellate(solid, 0.01, 5), np.eye(3), pm, 0.2)
-    w, h = 1.35, 20 - 1.0 - 0.8
+    w, h = W, 20 - 1.0 - 0.8
     V = (40 - 2 * w) * (30 - 2 * w) * h - math.pi * (5 + w) ** 2 * h
     assert core.props.volume_mm3 == pytest.approx(V, rel=2e-3)
     # the core sits 0.1 mm low: 0.8 mm skin below, 1.0 mm above
@@ -99,7 +111,7 @@ def test_layer_core_follows_the_print_orientation(pm):
     solid = Box(40, 30, 20)
     R = mp.rotation_matrix((90, 0, 0))
     core = mp.layer_core(mp.tessellate(solid, 0.01, 5), R, pm, 0.2)
-    V = (40 - 2.7) * (30 - 1.8) * (20 - 2.7)
+    V = (40 - 2 * W) * (30 - 1.8) * (20 - 2 * W)
     assert core.props.volume_mm3 == pytest.approx(V, rel=2e-3)
     # up in print = -y in the body frame (R maps +z to -y? no: body -> print, so print up = R^T e_z)
     up = R.T @ [0, 0, 1]
@@ -113,19 +125,19 @@ def band_mm2(a, b, o=0.25 * 0.45):
 
 
 def test_printed_box_mass_and_inertia_closed_form(pm):
-    """40 x 30 x 20 block, 100 layers of 0.2 mm: solid minus 0.8 x core (37.3 x 27.3 x 18.2, 0.1 mm low), plus
-    the infill-overlap band inside the 37.3 x 27.3 inner contour (density 1 in the 9 skin layers, 0.2
+    """40 x 30 x 20 block, 100 layers of 0.2 mm: solid minus 0.8 x core ((40 - 2W) x (30 - 2W) x 18.2, 0.1 mm
+    low), plus the infill-overlap band inside the (40 - 2W) x (30 - 2W) inner contour (density 1 in the 9 skin layers, 0.2
     elsewhere), plus the first top skin layer laid as a bridge over the sparse infill (1.396 x plastic)."""
     solid = Box(40, 30, 20)
     part = PartSpec("block", solid, 0, "test")
     r = mp.part_mass(part, pm, mp.tessellate(solid, 0.01, 5), 0.2)
     a, b, c = 40e-3, 30e-3, 20e-3
-    ca, cb, cc = a - 2.7e-3, b - 2.7e-3, c - 1.8e-3
+    ca, cb, cc = a - 2 * W * 1e-3, b - 2 * W * 1e-3, c - 1.8e-3
     k = 1 - pm.infill_fraction
     z = np.array([(i + 0.5) * 0.2 - 10.0 for i in range(100)])            # layer mid-heights, body z [mm]
     wts = np.where((np.arange(100) < 4) | (np.arange(100) >= 95), 1.0, 0.2)
-    band = band_mm2(37.3, 27.3) * 0.2 * wts                                 # [mm^3] per layer
-    bridge = (mp.bridge_flow_factor(0.4, 0.2) - 1) * 37.3 * 27.3 * 0.2     # layer 95 [mm^3]
+    band = band_mm2(40 - 2 * W, 30 - 2 * W) * 0.2 * wts                                 # [mm^3] per layer
+    bridge = (mp.bridge_flow_factor(0.4, 0.2) - 1) * (40 - 2 * W) * (30 - 2 * W) * 0.2     # layer 95 [mm^3]
     assert mp.bridge_flow_factor(0.4, 0.2) == pytest.approx(math.pi * 0.04 / (0.45 * 0.2))
     V_extra = (band.sum() + bridge) * 1e-9
     m_s, m_c = RHO * a * b * c, RHO * ca * cb * cc
@@ -141,18 +153,19 @@ def test_printed_box_mass_and_inertia_closed_form(pm):
 
 
 def test_small_core_pieces_print_solid(pm):
-    """A 10 x 10 mm pillar: its core section (7.3 mm)^2 = 53 mm^2 < 70 mm^2, so the slicer fills it solid
-    (and the solid infill overlaps the perimeters by 0.1125 mm on all 100 layers)."""
+    """A 10 x 10 mm pillar: its core section (10 - 2W = 7.515 mm)^2, grown by the 0.1125 mm overlap the slicer
+    counts, is 59.9 mm^2 < 70 mm^2, so the slicer fills it solid (and the solid infill overlaps the perimeters
+    by 0.1125 mm on all 100 layers)."""
     solid = Box(10, 10, 20)
     r = mp.part_mass(PartSpec("pillar", solid, 0, "test"), pm, mp.tessellate(solid, 0.01, 5), 0.2)
     assert r.volume_core_m3 == 0.0
-    V = 2000.0 + band_mm2(7.3, 7.3) * 0.2 * 100
+    V = 2000.0 + band_mm2(10 - 2 * W, 10 - 2 * W) * 0.2 * 100
     assert r.inertial.mass_kg == pytest.approx(RHO * V * 1e-9, rel=1e-4)
     assert any("empty" in f for f in r.flags)
 
 
 def test_thin_shell_prints_solid(pm):
-    """A square tube with walls of 2 mm < 2 w = 2.7 mm: no core at all."""
+    """A square tube with walls of 2 mm < 2 W = 2.485 mm: no core at all."""
     solid = Box(40, 40, 40) - Box(36, 36, 40)
     r = mp.part_mass(PartSpec("shell", solid, 0, "test"), pm, mp.tessellate(solid, 0.01, 5), 0.2)
     assert r.volume_core_m3 == 0.0
@@ -164,7 +177,7 @@ def test_occ_offset_model_is_the_uniform_offset(pm):
     """The second model: uniform offset w everywhere (skins thinner than w do not matter)."""
     solid = Box(40, 30, 20)
     core = mp.occ_core(solid, np.array([0, 0, 1.0]), pm)
-    assert core.props.volume_mm3 == pytest.approx((40 - 2.7) * (30 - 2.7) * (20 - 2.7), rel=1e-6)
+    assert core.props.volume_mm3 == pytest.approx((40 - 2 * W) * (30 - 2 * W) * (20 - 2 * W), rel=1e-6)
 
 
 def test_voxel_fallback_is_close(pm):
