@@ -21,14 +21,22 @@ def test_labels_masses_and_flags(bought):
     p = Params()
     n = p.joints.count
     labels = [b.label for b in bought]
-    assert labels == [f"motor_{j}" for j in range(1, n + 1)] + [c.name for c in p.components]
+    k = p.environment.flotation_foam_segments
+    assert labels == ([f"motor_{j}" for j in range(1, n + 1)] + [c.name for c in p.components]
+                      + [f"flotation_{i}" for i in range(1, k + 1)])
     for b in bought:
-        assert not b.printed and b.family == "bought" and b.link == 0
+        assert not b.printed and b.family == "bought"
         assert b.meta["source"]
         assert b.solid.is_valid and len(b.solid.solids()) == 1
-    assert [b.mass_kg for b in bought[:n]] == [p.motor.mass_kg] * n
-    assert [b.mass_kg for b in bought[n:]] == [c.mass_kg for c in p.components]
-    assert sum(b.mass_kg for b in bought) == pytest.approx(4 * 0.28 + 0.046 + 0.030)   # screws: exports/line_masses
+    fixed, foam = bought[:len(bought) - k], bought[len(bought) - k:]
+    assert all(b.link == 0 for b in fixed)
+    assert [b.link for b in foam] == [p.hull.flooded_from_joint + i for i in range(k)]
+    assert [b.mass_kg for b in fixed[:n]] == [p.motor.mass_kg] * n
+    assert [b.mass_kg for b in fixed[n:]] == [c.mass_kg for c in p.components]
+    assert sum(b.mass_kg for b in fixed) == pytest.approx(4 * 0.28 + 0.046 + 0.030)   # screws: exports/line_masses
+    # foam: its density times its own solid's volume
+    for b in foam:
+        assert b.mass_kg == pytest.approx(p.environment.foam_density_kg_m3 * b.solid.volume * 1e-9, rel=1e-12)
 
 
 def test_motor_volume_closed_form(bought):
