@@ -171,8 +171,10 @@ def measure_walls(f: Fastener, manifolds: dict, line_width_mm: float, walls: flo
     return out, problems
 
 
-def tool_path_problems(f: Fastener, manifolds: dict) -> list[str]:
-    """Parts the driver's cylinder meets on its way to the head (none but those put on after ``f``)."""
+def tool_path_problems(f: Fastener, manifolds: dict, goes_in_with: dict | None = None) -> list[str]:
+    """Parts the driver's cylinder meets on its way to the head (none but those put on after ``f``, and the parts
+    that go in with one of those: ``goes_in_with`` maps a part to the part it is glued into)."""
+    goes_in_with = goes_in_with or {}
     if f.kind == "dowel":
         return []
     import manifold3d as m3d
@@ -192,7 +194,7 @@ def tool_path_problems(f: Fastener, manifolds: dict) -> list[str]:
     lo, hi = np.asarray(tool.bounding_box()[:3]), np.asarray(tool.bounding_box()[3:])
     out = []
     for label, man in manifolds.items():
-        if label in f.installed_after:
+        if label in f.installed_after or goes_in_with.get(label) in f.installed_after:
             continue
         bb = man.bounding_box()
         if np.any(np.asarray(bb[:3]) > hi) or np.any(np.asarray(bb[3:]) < lo):
@@ -204,9 +206,12 @@ def tool_path_problems(f: Fastener, manifolds: dict) -> list[str]:
     return out
 
 
-def check_fasteners(p: Params, fasteners, manifolds: dict, raise_on_failure: bool = True) -> FastenerReport:
-    """Every fastener rule on the solids. ``manifolds``: label -> manifold3d.Manifold of every part at rest.
-    Raises BuildError listing every failure (``raise_on_failure``), else returns them in the report."""
+def check_fasteners(p: Params, fasteners, manifolds: dict, raise_on_failure: bool = True,
+                    goes_in_with: dict | None = None) -> FastenerReport:
+    """Every fastener rule on the solids. ``manifolds``: label -> manifold3d.Manifold of every part at rest;
+    ``goes_in_with``: label -> the part it is glued into (it goes on when that part does: a flotation block with
+    its lower half). Raises BuildError listing every failure (``raise_on_failure``), else returns them in the
+    report."""
     fasteners = tuple(fasteners)
     walls, problems = [], []
     lw, n = p.print.line_width_mm, p.rules.wall_min_line_widths
@@ -215,7 +220,7 @@ def check_fasteners(p: Params, fasteners, manifolds: dict, raise_on_failure: boo
         w, pr = measure_walls(f, manifolds, lw, n)
         walls += w
         problems += pr
-        problems += tool_path_problems(f, manifolds)
+        problems += tool_path_problems(f, manifolds, goes_in_with)
     report = FastenerReport(fasteners, walls, problems)
     if problems and raise_on_failure:
         raise BuildError(f"{len(problems)} fastener check(s) failed:\n" + "\n".join(f"  - {x}" for x in problems))

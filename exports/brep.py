@@ -106,17 +106,37 @@ def _exact_box(topo) -> tuple[np.ndarray, np.ndarray]:
     return np.array([x0 - gap, y0 - gap, z0 - gap]), np.array([x1 + gap, y1 + gap, z1 + gap])
 
 
-def weld(vertices: np.ndarray, faces: np.ndarray, decimals: int = 7) -> Mesh:
-    """Merge coincident vertices (equal to ``decimals`` places of a mm) and drop degenerate triangles."""
-    key = np.round(vertices, decimals) + 0.0  # + 0.0 turns -0.0 into 0.0
-    uniq, inverse = np.unique(key, axis=0, return_inverse=True)
-    f = inverse.reshape(-1)[faces]
+WELD_TOLERANCE_MM = 1e-4
+"""Mesh nodes closer than this are one node. OpenCascade leaves clusters of nodes a few 1e-6 mm apart where many
+faces meet at one point (a revolved cutter's pivot on a link plate's face); written as float32 (3e-5 mm steps at
+500 mm) they fall on one point and the STL's edges pinch. 1e-4 mm is above both and far below any feature."""
+
+
+def weld(vertices: np.ndarray, faces: np.ndarray, tolerance_mm: float = WELD_TOLERANCE_MM) -> Mesh:
+    """Merge vertices within ``tolerance_mm`` of each other (chains of them: connected components of the pairs,
+    each represented by its lowest-numbered vertex) and drop degenerate triangles."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    v = np.asarray(vertices, dtype=float) + 0.0  # + 0.0 turns -0.0 into 0.0
+    pairs = cKDTree(v).query_pairs(tolerance_mm, output_type="ndarray")
+    n = len(v)
+    if len(pairs):
+        graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
+        _, label = connected_components(graph, directed=False)
+        first = np.full(label.max() + 1, n, dtype=np.int64)
+        np.minimum.at(first, label, np.arange(n))
+        rep = first[label]
+    else:
+        rep = np.arange(n)
+    f = rep[np.asarray(faces)]
     keep = (f[:, 0] != f[:, 1]) & (f[:, 1] != f[:, 2]) & (f[:, 0] != f[:, 2])
     f = f[keep]
     used = np.unique(f)
-    remap = np.full(len(uniq), -1, dtype=np.int64)
+    remap = np.full(n, -1, dtype=np.int64)
     remap[used] = np.arange(len(used))
-    return Mesh(uniq[used], remap[f])
+    return Mesh(v[used], remap[f])
 
 
 def is_closed(mesh: Mesh) -> bool:

@@ -8,21 +8,19 @@ from __future__ import annotations
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.core.schema import Params
 from swiftfin.layout.fastening import Fastener, screw_length
-from swiftfin.layout.flotation_plan import foam_blocks
 from swiftfin.layout.hull_plan import hull_pieces, part_label
 from swiftfin.layout.joints import all_joint_hardware
 
 
-def _earlier_parts(p: Params, j: int, pieces=None, foam=None) -> tuple[str, ...]:
+def _earlier_parts(p: Params, j: int, pieces=None) -> tuple[str, ...]:
     """Labels of every part of the links ahead of joint j (0 .. j-1): the tail is assembled from the peduncle
     forward, so they go on after joint j's flange screws are driven (the driver reaches them from the front). A
-    flotation block goes in with the lower half it is glued into."""
+    part glued into one of these (a flotation block) goes on with it (``cad.fastener_check``'s ``goes_in_with``)."""
     out = []
     for pc in (hull_pieces(p) if pieces is None else pieces):
         if pc.link < j:
             out += sorted({part_label(p, pc, "upper"), part_label(p, pc, "lower")})
     out += [f"joint_link_{k}" for k in range(1, j)]
-    out += [blk.label for blk in (foam_blocks(p) if foam is None else foam) if blk.link < j]     # glued in with their lower halves
     n = p.joints.count
     out += [f"{fam}_{k}" for k in range(1, n + 1) for fam in ("motor", "motor_mount", "spool")]
     out += [f"spool_{k}_upper" for k in range(1, n + 1)] + [f"guide_exit_{k}" for k in range(2, n + 1)] + ["guide_bay"]
@@ -43,7 +41,6 @@ def link_fasteners(p: Params) -> tuple[Fastener, ...]:
     """
     out = []
     pieces = hull_pieces(p)
-    foam = foam_blocks(p)
     for h in all_joint_hardware(p):
         j = h.joint
         parent = next(pc for pc in pieces if pc.rear_joint == j)
@@ -69,7 +66,7 @@ def link_fasteners(p: Params) -> tuple[Fastener, ...]:
         s = fastener(h.flange_screw)
         length = screw_length(s, h.flange_thickness_mm, "insert")
         x_face = h.x_mm - h.gap_half_mm + h.flange_thickness_mm
-        after = _earlier_parts(p, j, pieces, foam)
+        after = _earlier_parts(p, j, pieces)
         for k, (y, z) in enumerate(h.bolt_points_yz_mm):
             bulkhead = part_label(p, child, "upper" if z > 0 else "lower")
             out.append(Fastener(

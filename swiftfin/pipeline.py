@@ -250,7 +250,8 @@ def check_fasteners_built(result: BuildResult, placed=None):
     built = {q.label for q in placed}
     fasteners = [f for f in all_fasteners(result.params)
                  if {f.head_part, f.thread_part, f.meta.get("slip_part")} - {None} <= built]
-    return check_fasteners(result.params, fasteners, {q.label: q.manifold for q in placed})
+    glued = {b.spec.label: b.spec.meta["glued_to"] for b in result.parts if b.spec.meta.get("glued_to")}
+    return check_fasteners(result.params, fasteners, {q.label: q.manifold for q in placed}, goes_in_with=glued)
 
 
 # --------------------------------------------------------------------------------------------- writing

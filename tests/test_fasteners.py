@@ -136,6 +136,15 @@ def test_a_pocket_without_material_and_a_blocked_driver_are_named(blocks, defaul
                           mans,
                           raise_on_failure=False)
     assert not any("driver" in x for x in rep.problems)
+    # a part glued into the lid goes on with it: out of the way too, but only when declared so
+    foam = bd.Solid.make_box(10, 10, 2).translate((-11.5, -5, 30))
+    mans["foam"] = _manifold(foam)
+    late = _f(head_mm=(-6.5, 0.0, 14.0), length_mm=12.0, installed_after=("lid",))
+    rep = check_fasteners(default_params, [late], mans, raise_on_failure=False)
+    assert any("runs into foam" in x for x in rep.problems), rep.problems
+    rep = check_fasteners(default_params, [late], mans, raise_on_failure=False, goes_in_with={"foam": "lid"})
+    assert not any("driver" in x for x in rep.problems)
+    del mans["foam"]
     # the screw moved off the blocks: its insert has no material round it
     off = _f(head_mm=(-30.0, 0.0, 14.0), length_mm=12.0)
     rep = check_fasteners(default_params, [off], mans, raise_on_failure=False)
