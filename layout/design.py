@@ -74,9 +74,14 @@ def plan_problems(params: Params) -> list[Problem]:
             if text in seen:            # one plan reads another (the links' order reads the foam blocks)
                 continue
             seen.add(text)
-            own = text.split(": ", 1)[0].split(" = ")[0] if " = " in text.split(": ", 1)[0] else None
+            head, _, rest = text.partition(": ")
+            own = head.split(" = ")[0] if " = " in head and rest else None
+            try:
+                own_value = get_key(params, own) if own else None
+            except (AttributeError, KeyError, ValueError):
+                own = None
             if own is not None:         # the plan named its own key: report it under that key, once
-                out.append(Problem(own, get_key(params, own), text.split(": ", 1)[1]))
+                out.append(Problem(own, own_value, rest))
             else:
                 out.append(Problem(key, get_key(params, key), f"{what} cannot be made for this design: {text}"))
     return out

@@ -89,3 +89,30 @@ def test_loader_refuses_a_block_with_no_room_naming_the_key_once():
     pr = problems[0]
     assert pr.key == "environment.flotation_foam_segments" and pr.value == 4
     assert "no room for a foam block in hull_peduncle" in pr.expected and "height" in pr.expected
+
+
+def test_a_plan_that_cannot_be_made_is_reported_under_its_key(monkeypatch):
+    """A plan's BuildError (no catalogue length, no room) becomes one problem under the key its table names; text
+    that merely looks like 'key = value: ...' but names no key does not hijack it."""
+    import types
+
+    from swiftfin.core.errors import BuildError
+    from swiftfin.layout import design
+
+    fake = types.ModuleType("swiftfin_fake_plan")
+
+    def no_screw(p):
+        raise BuildError("no M2 screw of 22.6 mm for the motor mounts' wall fixings")
+
+    def odd_text(p):
+        raise BuildError("grip = 22.6 mm: longer than any M2 screw")
+
+    fake.no_screw, fake.odd_text = no_screw, odd_text
+    monkeypatch.setitem(__import__("sys").modules, "swiftfin_fake_plan", fake)
+    monkeypatch.setattr(design, "_PLANS", (("swiftfin_fake_plan:no_screw", "hull.screw_diameter_mm", "the wall fixings"),
+                                           ("swiftfin_fake_plan:odd_text", "hull.screw_diameter_mm", "the splices")))
+    problems = design.plan_problems(P)
+    assert [pr.key for pr in problems] == ["hull.screw_diameter_mm", "hull.screw_diameter_mm"]
+    assert problems[0].value == P.hull.screw_diameter_mm
+    assert "the wall fixings cannot be made for this design: no M2 screw of 22.6 mm" in problems[0].expected
+    assert "the splices cannot be made for this design: grip = 22.6 mm" in problems[1].expected
