@@ -113,10 +113,10 @@ def _block(p: Params, pc: HullPiece, index: int) -> FoamBlock:
     z_top = min(L.tendon_level_mm(p, j, side) for j in joints for side in (-1, 1)) - r - c
     # across: inside the seam's columns and bosses
     feats = seam_features(p, pc)
-    _, b_min = hull_section_semi_axes_mm(p, s1)
-    a_min, _ = hull_section_semi_axes_mm(p, s1)
+    a_min, b_min = (min(v) for v in zip(*(hull_section_semi_axes_mm(p, s) for s in (s0, s1))))
     y_max = min((abs(f.y_mm) - f.boss_radius_mm - c for f in feats), default=a_min)
-    # down: the vent's height above the inner keel at the block's lowest end
+    # down: the vent's height above the inner keel where the section is smallest (a ruled loft between the
+    # ends: the keel's chord lies above the hull's)
     z_floor = -(b_min - p.hull.wall_thickness_mm) + p.hull.vent_hole_diameter_mm
     blk = FoamBlock(f"flotation_{index}", pc.link, pc.name, part_label(p, pc, "lower"), s0, s1, z_floor, z_top,
                     y_max, inset, tuple(axes))
