@@ -154,7 +154,6 @@ def test_two_effects_both_found(suite, matrix, case):
     ("offset", "offset_rad", 0.02),
     ("effective_radius", "ratio_error", 0.05),
     ("viscous_friction", "damping_nm_s_rad", 0.02),
-    ("capstan_creep", "creep_per_travel", 0.001),
 ])
 def test_physical_recovery_within_uncertainty(suite, name, param, true):
     """Where the effect model is the simulator's physics, the true value lies within 3 sigma."""
@@ -169,6 +168,10 @@ def test_physical_recovery_within_uncertainty(suite, name, param, true):
     ("cable_compliance", "stiffness_factor", 0.1, 0.1),
     ("lost_steps", "slip_rad", None, 0.02),              # 4 full steps x r / d_mount
     ("quadratic_drag", "drag_over_stiffness_s2", None, 0.15),
+    # the creep estimate sits 0.09-0.23 % high on the bench simulator (z = +1.8 ... +4.5 over seeds 8-21, on the
+    # 0.545 and 0.555 L designs alike), while the model-consistent recovery below is exact: the simulator's creep
+    # is not quite the effect's model, and its sigma (0.05 %) does not cover that
+    ("capstan_creep", "creep_per_travel", 0.001, 0.01),
 ])
 def test_physical_recovery_with_model_error(suite, d, name, param, true, tol):
     """Where the effect model approximates the simulator (quasi-static drag, slip timing, the link's own lag),
