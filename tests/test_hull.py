@@ -126,13 +126,25 @@ def test_nose_cap_is_tangent_to_the_naca_curve_and_measured_on_the_solid(hull_pa
     assert bb.max.Z == pytest.approx(1.5 * cap.b_mm * math.sqrt(1 - v * v), abs=0.03)
 
 
+def _clear_station_mm(piece_name: str) -> float:
+    """A station of the piece midway between two of its +y seam features and farthest from them and from the
+    motor mounts' wall fixings: where the shell is plain."""
+    from swiftfin.layout.hull_plan import seam_features
+    pc = next(q for q in hull_pieces(P) if q.name == piece_name)
+    ss = sorted(f.s_mm for f in seam_features(P, pc) if f.side > 0)
+    others = ss + [-fx.point_mm[0] for fx in mount_fixings_mm(P)]
+    mids = [0.5 * (u + v) for u, v in zip(ss, ss[1:])]
+    return max(mids, key=lambda m: min(abs(m - o) for o in others))
+
+
 def test_wall_thickness_in_mid_segment(hull_parts):
-    """Half of a slab at s = 80 mm (between two seam screws), measured at y > 0 only: material between the inner and
-    outer ellipse."""
+    """Half of a slab of the head's front piece between two seam screws (clear of the mounts' fixings), measured
+    at y > 0 only: material between the inner and outer ellipse."""
     solid = hull_parts["hull_head_front_upper"].solid
-    a, b = hull_section_semi_axes_mm(P, 80.0)
+    s = _clear_station_mm("hull_head_front")
+    a, b = hull_section_semi_axes_mm(P, s)
     t = P.hull.wall_thickness_mm
-    inside = lambda y, z: solid.is_inside(bd.Vector(-80.0, y, z))  # noqa: E731
+    inside = lambda y, z: solid.is_inside(bd.Vector(-s, y, z))  # noqa: E731
     assert inside(a - t / 2, 0.5)
     assert not inside(a - t - 0.3, 0.5)
     assert not inside(a + 0.3, 0.5)
