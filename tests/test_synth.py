@@ -98,8 +98,14 @@ def test_lost_steps_are_four_full_steps(d):
     log = simulate_joint(d, {"lost_steps": 150.0}, duration_s=20, noise_rad=0, encoder_counts=None, seed=1)
     assert log.n_slips > 0
     e = log.true_joint_angle_rad - rigid_joint_angle(log.motor_angle_rad, d)
-    jumps = np.round(np.diff(e[::50]) / d.slip_quantum_rad)
-    steps = jumps[jumps != 0]
+    # the change of e over a sliding 8 ms window (the slip ramps over 5 ms): each slip is one run of windows that
+    # jump by more than half a quantum (fixed 50 ms windows could split a slip in two halves that both round to 0)
+    w = 8
+    de = (e[w:] - e[:-w]) / d.slip_quantum_rad
+    big = np.abs(de) > 0.5
+    starts = np.flatnonzero(big & ~np.r_[False, big[:-1]])
+    ends = np.flatnonzero(big & ~np.r_[big[1:], False])
+    steps = np.round([de[a:b + 1][np.argmax(np.abs(de[a:b + 1]))] for a, b in zip(starts, ends)])
     assert steps.size == log.n_slips
     assert set(np.abs(steps)) == {1.0}
 
