@@ -47,5 +47,7 @@ def test_need_and_count_closed_form():
 
 def test_too_little_storage_is_refused_with_the_turns_needed():
     p = replace_key(Params(), "spool.tension_storage_turns", 0.5)
-    with pytest.raises(UserError, match=r"joint 4: .* raise spool.tension_storage_turns = 0.5 to at least 0.73"):
+    # joint 4's loop needs 45.08 mm (its 666 mm of free cable since joint 1 sits at 0.555 L): 45.08 / (pi x 20 mm)
+    # = 0.7174 turns, rounded up to 0.72
+    with pytest.raises(UserError, match=r"joint 4: .* raise spool.tension_storage_turns = 0.5 to at least 0.72"):
         tensioner_numbers(p)
