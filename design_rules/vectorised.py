@@ -1382,7 +1382,11 @@ def seeded_designs(n: int, seed: int = 16, check_layout: bool = True, max_draws:
                              speed_m_s=0.0 if rng.random() < 0.08 else u(0.2, 2.5))
         d["environment"].update(water_density_kg_m3=u(995, 1030), water_temperature_c=u(10, 30),
                                 heat_transfer_water_w_m2_k=u(100, 1000), heat_transfer_air_w_m2_k=u(3, 15),
-                                buoyancy_band_fraction=u(0.02, 0.1), max_static_pitch_deg=u(2, 10))
+                                buoyancy_band_fraction=u(0.02, 0.1), max_static_pitch_deg=u(2, 10),
+                                # the default's foam blocks, as many as the design has flooded segments (no draw:
+                                # the sample's random stream stays as it was)
+                                flotation_foam_segments=min(Params().environment.flotation_foam_segments,
+                                                            k + 1 - d["hull"]["flooded_from_joint"]))
         for key in ("body_added_mass_coefficient", "body_drag_coefficient", "fin_added_mass_coefficient",
                     "fin_lift_slope_factor", "fin_drag_coefficient_90", "fin_normal_coefficient_max"):
             d["hydro"][key] *= u(0.6, 1.4)

@@ -64,6 +64,11 @@ def plan_problems(params: Params) -> list[Problem]:
 
     from swiftfin.core.errors import BuildError, UserError
     from swiftfin.core.params import get_key
+    from swiftfin.layout.hull_plan import hull_pieces
+    try:
+        hull_pieces(params)
+    except UserError:       # a hull that cannot be cut to fit the bed: the rule print.bed_fit reports it, and the
+        return []           # plans, which place fasteners in its pieces, have nothing to place them in
     out, seen = [], set()
     for ref, key, what in _PLANS:
         module, func = ref.split(":")
