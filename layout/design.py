@@ -63,33 +63,43 @@ def plan_problems(params: Params) -> list[Problem]:
     import importlib
 
     from swiftfin.core.errors import BuildError, UserError
-    from swiftfin.core.params import get_key
     from swiftfin.layout.hull_plan import hull_pieces
+    out: list[Problem] = []
+    seen: set[str] = set()
     try:
-        hull_pieces(params)
-    except UserError:       # a hull that cannot be cut to fit the bed: the rule print.bed_fit reports it, and the
-        return []           # plans, which place fasteners in its pieces, have nothing to place them in
-    out, seen = [], set()
+        hull_pieces(params)     # its cuts keep clear of the mounts' wall fixings, so it places them first
+    except UserError:           # a hull that cannot be cut to fit the bed: the rule print.bed_fit reports it, and
+        return []               # the plans, which place fasteners in its pieces, have nothing to place them in
+    except BuildError as exc:
+        _plan_problem(params, exc, "hull.screw_diameter_mm", "the hull's pieces", seen, out)
+        return out
     for ref, key, what in _PLANS:
         module, func = ref.split(":")
         try:
             getattr(importlib.import_module(module), func)(params)
         except (UserError, BuildError) as exc:
-            text = str(exc)
-            if text in seen:            # one plan reads another (the links' order reads the foam blocks)
-                continue
-            seen.add(text)
-            head, _, rest = text.partition(": ")
-            own = head.split(" = ")[0] if " = " in head and rest else None
-            try:
-                own_value = get_key(params, own) if own else None
-            except (AttributeError, KeyError, ValueError):
-                own = None
-            if own is not None:         # the plan named its own key: report it under that key, once
-                out.append(Problem(own, own_value, rest))
-            else:
-                out.append(Problem(key, get_key(params, key), f"{what} cannot be made for this design: {text}"))
+            _plan_problem(params, exc, key, what, seen, out)
     return out
+
+
+def _plan_problem(params: Params, exc: Exception, key: str, what: str, seen: set[str], out: list[Problem]) -> None:
+    """One plan's refusal as a problem: under the key its text begins with (``key = value: why``) when that is a
+    real key, else under ``key``; a text already reported (one plan reads another) is not repeated."""
+    from swiftfin.core.params import get_key
+    text = str(exc)
+    if text in seen:
+        return
+    seen.add(text)
+    head, _, rest = text.partition(": ")
+    own = head.split(" = ")[0] if " = " in head and rest else None
+    try:
+        own_value = get_key(params, own) if own else None
+    except (AttributeError, KeyError, ValueError):
+        own = None
+    if own is not None:
+        out.append(Problem(own, own_value, rest))
+    else:
+        out.append(Problem(key, get_key(params, key), f"{what} cannot be made for this design: {text}"))
 
 
 def _layout_level(params: Params, earlier: list[Problem]) -> list[Problem] | None:

@@ -142,7 +142,11 @@ def _place(p: Params, floor_mm: float) -> tuple[WallFixing, ...]:
     grip = floor_mm + g
     length = s.length_for(grip + s.insert_length_mm)
     if length is None:
-        raise BuildError(f"no {s.name} screw of {grip + s.insert_length_mm:.1f} mm for the motor mounts' wall fixings")
+        raise BuildError(f"hull.screw_diameter_mm = {p.hull.screw_diameter_mm:g}: no {s.name} screw of "
+                         f"{grip + s.insert_length_mm:.1f} mm for the motor mounts' wall fixings (the worst screw's "
+                         f"load needs a {floor_mm:.2f} mm floor under its head, for a design tension of "
+                         f"{design_tension_n(p):.0f} N a side): use a larger screw, or a smaller "
+                         f"motor.holding_torque_nm or cable.pretension_n, or a larger spool.drum_diameter_mm")
     past = length - grip
     depth = max(s.insert_pocket_depth_mm, past + 0.5)        # the pocket, or the screw's tip beyond it
     out = []
