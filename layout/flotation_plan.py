@@ -126,7 +126,7 @@ def _block(p: Params, pc: HullPiece, index: int) -> FoamBlock:
         what = ", ".join(f"{k} {v:.1f} mm" for k, v in small.items())
         raise UserError(f"environment.flotation_foam_segments = {p.environment.flotation_foam_segments}: no room "
                         f"for a foam block in {pc.name} ({what}; at least {MIN_BLOCK_MM:g} mm): ask for fewer "
-                        f"blocks, or make room (a larger body.thickness_ratio, lower hull.flooded_from_joint)")
+                        f"blocks, or make room (a larger body.naca_thickness_fraction, a lower hull.flooded_from_joint)")
     return blk
 
 
