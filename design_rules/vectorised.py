@@ -1331,6 +1331,35 @@ def evaluate(designs, mass_properties=None, chunk: int = CHUNK) -> RuleArrays:
 
 
 # ----------------------------------------------------------------------------------------------- seeded designs
+def _sized_as_a_designer_would(p: Params) -> Params:
+    """``p`` with two sizes a designer picks from the rest rather than by chance: the smallest catalogue hull screw
+    its motor mounts' wall fixings can be made with (a strong motor on a small drum pulls its mount so hard that an
+    M2's pad floor outgrows every M2 length), and as many foam blocks (up to the default's) as its flooded segments
+    have room for. A size that cannot be made stays as drawn (the loader then says why). No draw: the random stream
+    stays as it was."""
+    from swiftfin.catalogues.fasteners import screw_diameters_mm
+    from swiftfin.core.errors import BuildError, UserError
+    from swiftfin.core.params import replace_key
+    from swiftfin.layout.flotation_plan import foam_blocks
+    from swiftfin.layout.mount_plan import wall_fixings
+
+    def first_made(key: str, values, plan) -> Params:
+        for v in values:
+            q = replace_key(p, key, v)
+            try:
+                plan(q)
+            except (BuildError, UserError):
+                continue
+            except Exception:  # noqa: BLE001 - a layout the loader refuses for its own reason: it says which
+                return p
+            return q
+        return p
+
+    p = first_made("hull.screw_diameter_mm", screw_diameters_mm(), wall_fixings)
+    return first_made("environment.flotation_foam_segments",
+                      range(p.environment.flotation_foam_segments, -1, -1), foam_blocks)
+
+
 def seeded_designs(n: int, seed: int = 16, check_layout: bool = True, max_draws: int | None = None) -> list[Params]:
     """``n`` designs drawn around the paper's SwiftFin, reproducibly: 2-5 joints spread over the tail, and the
     numbers the rules read (body, hull, motor and its pull-out curve, spool, cable, fin, gait, water, coefficients,
@@ -1393,7 +1422,7 @@ def seeded_designs(n: int, seed: int = 16, check_layout: bool = True, max_draws:
         d["power"].update(battery_energy_wh=u(2, 30), battery_usable_fraction=u(0.6, 0.95),
                           driver_rds_on_ohm=u(0.2, 1.5), electronics_power_w=u(0.1, 2.0),
                           run_time_required_min=u(5, 60))
-        d["print"].update(bed_x_mm=u(160, 350), bed_y_mm=u(160, 350), bed_z_mm=u(150, 350), line_width_mm=u(0.4, 0.6),
+        d["print"].update(bed_x_mm=u(100, 350), bed_y_mm=u(100, 350), bed_z_mm=u(100, 350), line_width_mm=u(0.4, 0.6),
                           filament_density_kg_m3=u(1050, 1300), material=str(rng.choice(["PLA", "PETG", "ASA"])))
         d["rules"].update(capstan_slip_margin=u(1.0, 3.0), cable_safety_factor=u(1.5, 5),
                           pullout_safety_factor=u(1.0, 2.5), position_error_limit_fraction=u(0.01, 0.2),
@@ -1401,7 +1430,7 @@ def seeded_designs(n: int, seed: int = 16, check_layout: bool = True, max_draws:
         try:
             p = params_from_dict(d, f"seeded design {draws}")
             if check_layout:
-                p = check_design(p, f"seeded design {draws}")
+                p = check_design(_sized_as_a_designer_would(p), f"seeded design {draws}")
         except ParamError:
             continue
         out.append(p)
