@@ -1,0 +1,188 @@
+"""Assembly steps (cad/assembly_steps.py): orders and ways in known by construction on boxes, blocks the planner
+must find (a captive ring, a wall thinner than any sampling step), the fasteners' precedence, and the default
+design's plan checked against an independent sampled sweep."""
+from __future__ import annotations
+
+import json
+
+import build123d as bd
+import numpy as np
+import pytest
+
+from swiftfin.cad.assembly import Contact, Placed
+from swiftfin.cad.assembly_steps import AXES, path_blocker, plan_steps, steps_json
+from swiftfin.core.errors import BuildError
+from swiftfin.core.schema import Params
+from swiftfin.exports.files import tessellate
+from swiftfin.layout.fastening import Fastener
+
+P = Params()
+NO_CONTACTS: tuple[Contact, ...] = ()
+
+
+def placed(label: str, solid, link: int = 0, family: str = "test") -> Placed:
+    m = tessellate(solid, 0.01, 5.0)
+    return Placed(label, link, family, m.vertices, m.faces)
+
+
+def box(x0, x1, y0, y1, z0, z1):
+    return bd.Box(x1 - x0, y1 - y0, z1 - z0).moved(bd.Location(((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)))
+
+
+def cup():
+    """A 40 x 40 x 30 mm box open at the top, 3 mm walls."""
+    return box(-20, 20, -20, 20, 0, 30) - box(-17, 17, -17, 17, 3, 31)
+
+
+def test_a_peg_goes_into_a_cup_from_above_and_the_lid_last():
+    cup_p = placed("hull_head_front_lower", cup())
+    peg = placed("battery", box(-5, 5, -5, 5, 3.5, 25))
+    lid = placed("hull_head_front_upper", box(-20, 20, -20, 20, 30.5, 33))
+    plan = plan_steps(P, [cup_p, peg, lid], threads=False, contacts=NO_CONTACTS)
+    assert plan.order() == ["hull_head_front_lower", "battery", "hull_head_front_upper"]
+    steps = {s.parts[0]: s for s in plan.steps}
+    assert steps["battery"].direction == "-z" and steps["hull_head_front_upper"].direction == "-z"
+    # the peg's way in starts above the lid's top: its box clears the cup's (top 30) by the margin
+    assert steps["battery"].travel_mm[0] == pytest.approx(30 - 3.5 + 2.0, abs=0.05)
+
+
+def test_a_captive_ring_cannot_be_put_on_and_the_plan_says_which_parts_block():
+    """A ring round the waist of a dumbbell whose ends are wider than its hole: no translation frees either."""
+    bell = (box(-40, -30, -10, 10, -10, 10) + box(-30, 30, -3, 3, -3, 3) + box(30, 40, -10, 10, -10, 10))
+    ring = box(-5, 5, -8, 8, -8, 8) - box(-6, 6, -4, 4, -4, 4)
+    with pytest.raises(BuildError) as err:
+        plan_steps(P, [placed("joint_link_1", bell), placed("guide_bay", ring)], threads=False,
+                   contacts=NO_CONTACTS)
+    text = str(err.value)
+    assert "no part still in place can be taken out" in text
+    assert "guide_bay along +x" in text and "(joint_link_1)" in text
+
+
+def test_a_wall_thinner_than_any_sampling_step_still_blocks():
+    """A 0.2 mm sheet moving through a 0.2 mm sheet: samples 1 mm apart would step over it; the gap-driven
+    advancement cannot."""
+    sheet = placed("a", box(-10, 10, -10, 10, 0, 0.2))
+    wall = placed("b", box(-20, 20, -20, 20, 5.1, 5.3))
+    blocked, travel, _ = path_blocker(P, [sheet], "+z", [wall], NO_CONTACTS)
+    assert blocked is not None and blocked.blocker == "b"
+    assert 4.8 < blocked.travel_mm <= 4.9 + 1e-6    # stopped within the passing gap of the wall's face at 5.1
+    free, _, _ = path_blocker(P, [sheet], "-z", [wall], NO_CONTACTS)
+    assert free is None
+
+
+def test_a_declared_contact_may_slide_but_not_overlap():
+    """A peg in a hole of its own size (declared contact) slides out along the hole, not across it."""
+    plate = placed("spool_1", box(-20, 20, -20, 20, 0, 5) - bd.Cylinder(4, 20))
+    peg = placed("motor_1", bd.Cylinder(4, 10).moved(bd.Location((0, 0, 5))))
+    contacts = (Contact(r"motor_1", r"spool_1", "a peg in its hole"),)
+    assert path_blocker(P, [peg], "+z", [plate], contacts)[0] is None
+    blocked = path_blocker(P, [peg], "+x", [plate], contacts)[0]
+    assert blocked is not None and blocked.contact and blocked.blocker == "spool_1"
+
+
+def test_a_fastener_driven_before_a_part_goes_on_orders_the_steps():
+    """A screw into the cup's floor whose key passes where another part goes: that part goes on after it, whatever
+    the removal preferences say (by label the battery would come out first, so go in last), and the screw is
+    listed in the step of the last part it joins."""
+    cup_p = placed("hull_body_1_lower", cup())
+    blk = placed("battery", box(-5, 5, -5, 5, 3.5, 8))
+    side = placed("electronics", box(8, 15, -5, 5, 3.5, 8))      # beside it: nothing but the screw orders them
+    screw = Fastener("battery_screw", "M2", "cap_screw", "insert", (0.0, 0.0, 8.0), (0.0, 0.0, -1.0), 8.0, 5.0,
+                     "battery", "hull_body_1_lower", "holds the block", 0, installed_after=("electronics",))
+    plan = plan_steps(P, [cup_p, blk, side], fasteners=[screw], threads=False, contacts=NO_CONTACTS)
+    order = plan.order()
+    assert order.index("electronics") > order.index("battery")
+    at = next(s for s in plan.steps if "battery_screw" in s.fasteners)
+    assert "battery" in at.parts and plan.fastener_count == 1
+
+
+def test_a_glued_part_goes_in_with_its_host():
+    cup_p = placed("hull_body_1_lower", cup())
+    foam = placed("flotation_1", box(-17, 17, -17, 17, 3, 10))
+    plan = plan_steps(P, [cup_p, foam], glued={"flotation_1": "hull_body_1_lower"}, threads=False,
+                      contacts=(Contact(r"flotation_1", r"hull_.+", "glued"),))
+    assert [s.parts for s in plan.steps] == [("hull_body_1_lower", "flotation_1")]
+
+
+# --------------------------------------------------------------------------------------------- the default design
+@pytest.fixture(scope="module")
+def default_plan(default_params, tmp_path_factory):
+    from swiftfin.cache import FamilyCache
+    from swiftfin.cad.assembly import Placed as Pl
+    from swiftfin.pipeline import build_parts, plan_assembly
+
+    result = build_parts(default_params, FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
+    placed_parts = [Pl(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
+                    for b in result.parts]
+    return result, placed_parts, plan_assembly(result, placed_parts)
+
+
+def test_every_part_fastener_cable_and_tube_of_the_default_design_goes_in_once(default_plan, default_params):
+    from swiftfin.cad.cables import tube_runs
+    from swiftfin.cad.fastening import all_fasteners
+
+    result, _, plan = default_plan
+    parts = [q for s in plan.steps for q in s.parts]
+    assert sorted(parts) == sorted(b.spec.label for b in result.parts)
+    fast = [f for s in plan.steps for f in s.fasteners]
+    assert sorted(fast) == sorted(f.label for f in all_fasteners(default_params))
+    threads = [t for s in plan.steps for t in s.threads]
+    tubes = [t for t in threads if t.startswith("tube_")]
+    assert sorted(tubes) == sorted(t.label for t in tube_runs(default_params))
+    for j in range(1, default_params.joints.count + 1):
+        assert f"cable_{j}" in threads
+    # the file the build writes says the same
+    data = json.loads(steps_json(plan))
+    assert [s["number"] for s in data["steps"]] == list(range(1, len(plan.steps) + 1))
+    assert data["fasteners"] == len(fast)
+
+
+def test_the_default_plan_honours_every_fasteners_precedence(default_plan, default_params):
+    """Read from the fastener records, not the planner: each fastener's parts are all in by its step, and every
+    part listed in its installed_after goes on in a later step."""
+    from swiftfin.cad.fastening import all_fasteners
+
+    _, _, plan = default_plan
+    at = {q: s.number for s in plan.steps for q in s.parts}
+    driven = {f: s.number for s in plan.steps for f in s.fasteners}
+    for f in all_fasteners(default_params):
+        joined = {f.head_part, f.thread_part, f.meta.get("slip_part")} - {None}
+        assert max(at[q] for q in joined) == driven[f.label], f.label
+        for q in f.installed_after:
+            if q in at:
+                assert at[q] > driven[f.label], (f.label, q)
+
+
+def test_each_way_in_is_clear_when_swept_by_an_independent_sampler(default_plan, default_params):
+    """An independent check of the planner's proof on the steps a builder finds tightest (the motor units into the
+    head, the spools onto their shafts, the lid, the fin into its slot): the part set back along its way in at
+    samples every 0.25 mm from its seat to 30 mm out, against every part already placed whose box it comes near; a
+    non-contact pair may not overlap at all (boolean volume), a declared contact only by the tessellation's
+    allowance."""
+    from swiftfin.cad.assembly import CONTACTS, contact_reason
+
+    _, parts, plan = default_plan
+    by = {q.label: q for q in parts}
+    tol = default_params.export.mesh_tolerance_mm
+    before: list[str] = []
+    checked = 0
+    for s in plan.steps:
+        if s.parts and any(k in s.parts[0] for k in ("motor_mount_", "hull_head_rear_upper", "caudal_fin")):
+            u = np.asarray(AXES[s.direction], float)
+            for q in s.parts:
+                m = by[q]
+                lo, hi = m.vertices.min(axis=0), m.vertices.max(axis=0)
+                lo, hi = np.minimum(lo, lo - 30 * u), np.maximum(hi, hi - 30 * u)
+                for other in before:
+                    o = by[other]
+                    if (o.vertices.min(axis=0) > hi + 0.5).any() or (o.vertices.max(axis=0) < lo - 0.5).any():
+                        continue
+                    reason = contact_reason(m, o, CONTACTS, default_params)
+                    allowed = (2 * tol * min(m.manifold.surface_area(), o.manifold.surface_area())
+                               if reason else 1e-3)
+                    for t in np.arange(0.25, 30.0, 0.25):
+                        vol = (m.manifold.translate(tuple(float(c) for c in -t * u)) ^ o.manifold).volume()
+                        assert vol <= allowed, (q, other, t, vol)
+                checked += 1
+        before += list(s.parts)
+    assert checked >= 10
