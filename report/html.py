@@ -31,7 +31,8 @@ from swiftfin.core.schema import Params
 from swiftfin.report.assets import CSS, FAMILY_COLORS, OTHER_COLOR
 from swiftfin.report.markup import esc
 from swiftfin.report.robot import robot_section
-from swiftfin.report.sections import (BOM_NAME, FIT_REPORT_NAME, MASS_PROPERTIES_NAME, assembly_section, audit_section,
+from swiftfin.report.sections import (BOM_NAME, FIT_REPORT_NAME, MASS_PROPERTIES_NAME, STEPS_NAME, assembly_section,
+                                      audit_section, read_steps, steps_section,
                                       bom_section, read_bom,
                                       fit_section, mass_section, overview_section, parts_section, plot_section,
                                       rules_section, sorted_findings)
@@ -42,7 +43,8 @@ __all__ = ["ASSEMBLY_VIEW_FACE_FRACTION", "FIT_REPORT_NAME", "MASS_PROPERTIES_NA
 
 REPORT_NAME = "report.html"
 
-SECTIONS = (("overview", "Overview"), ("assembly", "Assembly"), ("parts", "Parts"), ("bom", "Bill of materials"),
+SECTIONS = (("overview", "Overview"), ("assembly", "Assembly"), ("steps", "Assembly steps"), ("parts", "Parts"),
+            ("bom", "Bill of materials"),
             ("rules", "Design rules"),
             ("mass", "Mass"), ("robot", "Robot"), ("efficiency", "Efficiency"), ("tailbeat", "Tail-beat"), ("wave", "Body wave"),
             ("audit", "Paper audit"), ("fit", "Fit"))
@@ -134,6 +136,53 @@ def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
     return out, pics, time.perf_counter() - t0
 
 
+#: what is already in place in an exploded view, and the camera of every step's picture
+PLACED_COLOR = (0.80, 0.80, 0.80)
+STEP_VIEW = (900, 330, 62.0, 30.0)
+
+
+def render_step_pictures(parts: list[ReportPart], steps: dict, progress: Callable[[str], None],
+                         memo=None) -> dict[int, bytes]:
+    """One exploded view per step that puts parts in (``assembly_steps.json``'s steps): the parts already in
+    place in light grey, the step's parts in their family's colour, set back against their way in by
+    ``explode_mm`` (the parts not yet in are not drawn). Step number -> PNG."""
+    from swiftfin.exports.parallel import memoized
+    from swiftfin.report.render import MeshItem, cluster_decimate, png_bytes, render
+
+    by = {p.label: p for p in parts}
+    w, h, az, el = STEP_VIEW
+    placed: list[str] = []
+    out: dict[int, bytes] = {}
+    views: dict[str, tuple] = {}
+
+    def view(label: str):
+        if label not in views:
+            q = by[label]
+            n = max(200, int(ASSEMBLY_VIEW_FACE_FRACTION * len(q.faces)))
+            views[label] = memoized(memo, "view_mesh", (label,), [n], lambda: cluster_decimate(q.vertices, q.faces, n))
+        return views[label]
+
+    drawn = [s for s in steps.get("steps", []) if s.get("parts") and all(q in by for q in s["parts"])]
+    progress(f"rendering {len(drawn)} exploded assembly steps")
+    for s in drawn:
+        shift = -float(s.get("explode_mm", 0.0)) * np.asarray(s.get("vector", (0, 0, 0)), float)
+        items = []
+        for q in placed:
+            v, f = view(q)
+            items.append(MeshItem(v, f, PLACED_COLOR, q))
+        for q in s["parts"]:
+            v, f = view(q)
+            items.append(MeshItem(v + shift, f, FAMILY_COLORS.get(by[q].family, OTHER_COLOR), q))
+        labels = tuple(it.name for it in items)
+        extra = [w, h, az, el, [list(it.color) for it in items], [len(it.faces) for it in items],
+                 [round(float(c), 3) for c in shift], len(placed)]
+        out[s["number"]] = memoized(memo, "picture", labels, extra,
+                                    lambda: png_bytes(render(items, w, h, azimuth_deg=az, elevation_deg=el,
+                                                             max_faces=10**9)))
+        placed += s["parts"]
+    return out
+
+
 @functools.lru_cache(maxsize=4)
 def standard_plots(params: Params) -> tuple:
     """The efficiency, tail-beat and body-wave plots of a design (pure functions of the frozen Params, so
@@ -156,15 +205,21 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
                audit, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
                mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None,
                jobs: int | None = 1, robot_dir: Path | None = None, swim: list[dict] | None = None,
-               bom: list[dict] | None = None) -> str:
-    """The report page as a string (see :func:`write_report`). ``bom``: the rows of the build's ``bom.csv``."""
+               bom: list[dict] | None = None, steps: dict | None = None) -> str:
+    """The report page as a string (see :func:`write_report`). ``bom``: the rows of the build's ``bom.csv``;
+    ``steps``: the build's ``assembly_steps.json``."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
     t_start = time.perf_counter()
     rparts = [as_report_part(x) for x in parts] if parts is not None else None
     pics = part_pics = None
+    step_pics = {}
     if rparts:
         pics, part_pics, timing.render_s = render_pictures(rparts, progress, memo, jobs)
+        if steps:
+            t0 = time.perf_counter()
+            step_pics = render_step_pictures(rparts, steps, progress, memo)
+            timing.render_s += time.perf_counter() - t0
     t0 = time.perf_counter()
     progress("plotting the efficiency curves (paper Fig. 8), one tail-beat and the body wave")
     if plots is None:
@@ -188,6 +243,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
     body = {
         "overview": overview_section(params, rparts, mass_properties, findings, audit, params_name),
         "assembly": assembly_section(pics, rparts or []),
+        "steps": steps_section(steps, step_pics),
         "parts": parts_section(params, rparts, part_pics, mass_properties),
         "bom": bom_section(bom),
         "rules": rules_section(findings),
@@ -242,9 +298,10 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     out.mkdir(parents=True, exist_ok=True)
     robot_dir = out / "robot" if (out / "robot" / "swiftfin.urdf").is_file() else None
     bom = read_bom(out / BOM_NAME) if (out / BOM_NAME).is_file() else None
+    steps = read_steps(out / STEPS_NAME) if (out / STEPS_NAME).is_file() else None
     page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
                       params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots,
-                      jobs=jobs, robot_dir=robot_dir, swim=swim, bom=bom)
+                      jobs=jobs, robot_dir=robot_dir, swim=swim, bom=bom, steps=steps)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")

@@ -13,6 +13,7 @@ from swiftfin.report.markup import badge, esc, img, notice, num, table, tile
 
 #: the build folder's mass properties (exports) and a fit folder's report (calibration), named on the page
 MASS_PROPERTIES_NAME = "mass_properties.json"
+STEPS_NAME = "assembly_steps.json"
 BOM_NAME = "bom.csv"
 FIT_REPORT_NAME = "fit_report.json"
 
@@ -314,3 +315,54 @@ def bom_section(rows: list[dict] | None) -> str:
             f"fasteners as the parts place them, the bought parts, each cable side's cut length, and what the part "
             f"families declare. {n} of the lines are counted in pieces.</p>"
             + table(["Item", "Size", "Qty", "Unit", "Where", "Source"], body, cls="bom"))
+
+
+def read_steps(path: Path) -> dict | None:
+    """The build's ``assembly_steps.json``; None when it is not readable JSON with a list of steps."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    return data if isinstance(data, dict) and isinstance(data.get("steps"), list) else None
+
+
+def _fastener_summary(labels: list[str]) -> str:
+    """'4 x joint_3_pin_*' style: fastener labels grouped by their stem (the text before the last _<n>)."""
+    groups: dict[str, int] = {}
+    for lb in labels:
+        head, _, tail = lb.rpartition("_")
+        stem = f"{head}_*" if tail.isdigit() and head else lb
+        groups[stem] = groups.get(stem, 0) + 1
+    return ", ".join(f"{n} &times; <code>{esc(k)}</code>" if n > 1 else f"<code>{esc(k)}</code>"
+                     for k, n in groups.items())
+
+
+def steps_section(steps: dict | None, pics: dict | None) -> str:
+    if not steps:
+        return notice("No assembly steps: this report was not made by a build (or its assembly_steps.json is "
+                      "unreadable).")
+    out = [f"<p>The order to put the fish together ({len(steps['steps'])} steps; <code>{STEPS_NAME}</code> in the "
+           f"build folder). Found by taking the finished assembly apart one part at a time: each part's way in, "
+           f"along the arrow's axis from outside everything already in place, was proved clear on the meshes "
+           f"({steps.get('paths_proved', 0)} paths, {steps.get('pair_paths', 0)} part pairs along them). Every "
+           f"fastener is listed at the step that puts the last of its parts in ({steps.get('fasteners', 0)} in all; "
+           f"sizes and lengths in the bill of materials); a screw that must be driven before a part goes on "
+           f"(its key passes there) comes in an earlier step. In each picture the parts already in place are grey, "
+           f"the step's parts are set back against their way in.</p>"]
+    for note in steps.get("notes", []):
+        out.append(notice(esc(note)))
+    for s in steps["steps"]:
+        head = f"<h3>Step {int(s['number'])}</h3><p>{esc(s.get('text', ''))}.</p>"
+        facts = []
+        if s.get("parts"):
+            facts.append(f"<b>Parts</b> (in along {esc(s.get('direction', ''))}): "
+                         + ", ".join(f"<code>{esc(q)}</code>" for q in s["parts"]))
+        if s.get("fasteners"):
+            facts.append(f"<b>Fasteners</b>: {_fastener_summary(s['fasteners'])}")
+        if s.get("threads"):
+            facts.append("<b>Cables and tubes</b>: " + ", ".join(f"<code>{esc(q)}</code>" for q in s["threads"]))
+        pic = (pics or {}).get(s["number"])
+        alt = f"assembly step {int(s['number'])}, exploded"
+        fig = f'<figure class="wide">{img(pic, alt)}</figure>' if pic else ""
+        out.append(head + "".join(f"<p>{f}</p>" for f in facts) + fig)
+    return "".join(out)

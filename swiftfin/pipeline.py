@@ -54,6 +54,7 @@ class BuildResult:
     check_time_s: float = 0.0
     assembly_stats: dict = field(default_factory=dict)
     fastener_report: object = None     # cad.fastener_check.FastenerReport
+    assembly_plan: object = None       # cad.assembly_steps.Plan
 
 
 def _one_solid(spec: PartSpec):
@@ -116,6 +117,7 @@ STAGE_MODULES: dict[str, tuple[str, ...]] = {
     "link_mesh": ("swiftfin.exports.robot",),
     "picture": ("swiftfin.report.render",),
     "view_mesh": ("swiftfin.report.render",),
+    "assembly_steps": ("swiftfin.cad.assembly_steps", "swiftfin.cad.fastening"),
 }
 
 
@@ -233,7 +235,30 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
     passed = PassedPairs(cache.root / "assembly-pairs") if cache is not None else None
     result.assembly_stats = check_assembly(result.params, placed, progress=progress, passed=passed)
     result.fastener_report = check_fasteners_built(result, placed)
+    result.assembly_plan = plan_assembly(result, placed, cache, progress)
     result.check_time_s = time.perf_counter() - t0
+
+
+def plan_assembly(result: BuildResult, placed=None, cache: FamilyCache | None = None, progress=None):
+    """The assembly steps of the built parts (cad/assembly_steps.py): each part's way in proved clear of what is
+    already placed, the fasteners and the cabling in order. BuildError when no order puts the parts together."""
+    from swiftfin.cad.assembly import Placed
+    from swiftfin.cad.assembly_steps import plan_steps
+    from swiftfin.cad.fastening import all_fasteners
+    from swiftfin.core.params import to_dict
+
+    if placed is None:
+        placed = [Placed(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
+                  for b in result.parts]
+    if progress:
+        progress("  planning the assembly steps (each part's way in, proved clear of what is already placed) ...")
+    built = {q.label for q in placed}
+    fasteners = [f for f in all_fasteners(result.params)
+                 if {f.head_part, f.thread_part, f.meta.get("slip_part")} - {None} <= built]
+    glued = {b.spec.label: b.spec.meta["glued_to"] for b in result.parts if b.spec.meta.get("glued_to")}
+    memo = stage_memo(result, cache)
+    return memo("assembly_steps", tuple(sorted(built)), [to_dict(result.params), sorted(f.label for f in fasteners)],
+                lambda: plan_steps(result.params, placed, fasteners, glued))
 
 
 def check_fasteners_built(result: BuildResult, placed=None):
@@ -308,6 +333,7 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
                         meshes={b.spec.label: b.export.mesh for b in result.parts}, memo=memo, jobs=build_jobs(),
                         ros2_package=ros2_package)
     bom_file = write_bom(result, folder)
+    steps_file = write_assembly_steps(result, folder)
     if progress:
         progress("  design report ...")
     plots = None
@@ -322,10 +348,21 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
         swimming = swim_results(folder / "robot" / "swiftfin.xml", result.params, build_jobs())
     report_for_build(result, folder, params_file.name, progress=progress, memo=memo, plots=plots, swim=swimming)
     entries = []
-    for rel in sorted(robot["files"]) + [bom_file, "report.html"]:
+    for rel in sorted(robot["files"]) + [bom_file] + ([steps_file] if steps_file else []) + ["report.html"]:
         data = (folder / rel).read_bytes()
         entries.append({"path": rel, "sha256": sha256_bytes(data), "bytes": len(data)})
     return entries
+
+
+def write_assembly_steps(result: BuildResult, folder: Path) -> str | None:
+    """``assembly_steps.json`` (cad/assembly_steps.py) into ``folder`` when the build planned them; its name."""
+    from swiftfin.cad.assembly_steps import steps_json
+    from swiftfin.report.sections import STEPS_NAME
+
+    if result.assembly_plan is None:
+        return None
+    (folder / STEPS_NAME).write_text(steps_json(result.assembly_plan), encoding="utf-8")
+    return STEPS_NAME
 
 
 def write_bom(result: BuildResult, folder: Path) -> str:
@@ -407,6 +444,13 @@ def summary_table(result: BuildResult) -> str:
                  f"{w.fastener} in {w.part}" if w is not None else "")
         lines.append(f"fastener checks passed: {len(fr.fasteners)} fasteners ({what}) in "
                      f"{len(fr.per_part())} parts, walls, engagement, lengths and drivers' paths{worst}")
+    plan = result.assembly_plan
+    if plan is not None:
+        parts = sum(len(s.parts) for s in plan.steps)
+        lines.append(f"assembly steps: {len(plan.steps)} steps put in {parts} parts and {plan.fastener_count} "
+                     f"fasteners; {plan.checked_paths} ways in proved clear of the parts already placed "
+                     f"({plan.pair_checks} part pairs along them); {len(plan.notes)} part(s) not along their "
+                     f"family's usual direction (see report.html)")
     return "\n".join(lines)
 
 

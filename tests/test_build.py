@@ -147,7 +147,7 @@ def test_default_design_builds_end_to_end(env, capsys):
     assert leftovers(env) == []
     listed = {f["path"] for f in manifest["files"]}
     for rel in ("robot/swiftfin.urdf", "robot/swiftfin.xml", "robot/swiftfin.sdf", "mass_properties.json",
-                "report.html", "assembly.step", "bom.csv"):
+                "report.html", "assembly.step", "bom.csv", "assembly_steps.json"):
         assert rel in listed and (env / "build" / rel).is_file()
     # the bill of materials counts every fastener of the design and shows in the report
     from swiftfin.cad.fastening import all_fasteners
@@ -160,6 +160,14 @@ def test_default_design_builds_end_to_end(env, capsys):
     assert sum(int(r["quantity"]) for r in rows if r["item"] == "Stepper motor") == 4
     page = (env / "build" / "report.html").read_text()
     assert 'id="bom"' in page and "Heat-set insert" in page
+    # the assembly steps: every part and fastener once, one exploded view per step that puts parts in
+    steps = json.loads((env / "build" / "assembly_steps.json").read_text())["steps"]
+    assert sorted(q for s in steps for q in s["parts"]) == sorted(p["label"] for p in manifest["parts"])
+    assert sum(len(s["fasteners"]) for s in steps) == len(fasteners)
+    section = page[page.index('<section id="steps">'):]
+    section = section[:section.index("</section>")]
+    assert section.count("data:image/png;base64,") == sum(1 for s in steps if s["parts"])
+    assert section.count("<h3>Step ") == len(steps)
     # a build without the cache (every solid made afresh in this process) lists the same files and hashes,
     # STEP included (fixed header dates, occurrence ids renumbered per file)
     assert main(["build", str(DEFAULT_DESIGN), "--out", "fresh", "--no-cache"]) == 0
