@@ -24,6 +24,7 @@ Frames and conventions (used by every module of the project)
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, fields
 
@@ -76,8 +77,10 @@ def hull_end_mm(p: Params) -> float:
     return p.body.hull_end_fraction * p.body.length_mm
 
 
+@functools.lru_cache(maxsize=256)
 def joint_max_angles_rad(p: Params) -> tuple[float, ...]:
-    """Largest relative joint angle the wave demands at the design point (eq. 43-47, relative form)."""
+    """Largest relative joint angle the wave demands at the design point (eq. 43-47, relative form). Memoised on
+    the params (read by nearly every layout function; a family cache's recording view is equal only to itself)."""
     wave = wave_from_params(p.swimming, p.body.length_mm / 1000.0)
     s = np.asarray(joint_stations_mm(p)) / 1000.0
     return tuple(float(v) for v in max_relative_joint_angles_rad(wave, s, p.body.length_mm / 1000.0))

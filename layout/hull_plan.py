@@ -24,6 +24,7 @@ Fasteners (:func:`hull_fasteners`, registered in ``cad/fastening.py``; body fram
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -145,10 +146,13 @@ def _split_stations(p: Params, seg: L.Segment, n: int) -> list[float]:
     return out
 
 
+@functools.lru_cache(maxsize=64)
 def hull_pieces(p: Params) -> tuple[HullPiece, ...]:
     """The segments of :func:`swiftfin.layout.geometry.hull_segments`, split at stations until each fits the bed.
 
     Raises UserError naming the segment, its printed size and the bed when even its cross-section does not fit.
+    Memoised on the params (every plan reads it; a family cache's recording view is equal only to itself, so it
+    never receives pieces computed without recording its reads).
     """
     segs = L.hull_segments(p)
     n_j = p.joints.count

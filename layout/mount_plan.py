@@ -35,6 +35,7 @@ shear; :func:`mount_wall_loads` gives the forces for the hull's owner to check.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -107,17 +108,16 @@ class WallFixing:
 
 
 def _outer_distance(p: Params, s_mm: float, point, normal) -> float:
-    """Distance from ``point`` along ``normal`` to the hull's outer ellipse at station s (bisection)."""
+    """Distance from ``point`` (inside) along ``normal`` to the hull's outer ellipse at station s: the positive
+    root of ((y + u n_y) / a)^2 + ((z + u n_z) / b)^2 = 1, at most ``4 wall + 5`` mm (the reach of the old
+    bisection it replaces)."""
     a, b = float(L.naca_half_width_mm(p, s_mm)), float(L.half_height_mm(p, s_mm))
-    lo, hi = 0.0, 4 * p.hull.wall_thickness_mm + 5.0
-    for _ in range(60):
-        u = 0.5 * (lo + hi)
-        y, z = point[1] + u * normal[1], point[2] + u * normal[2]
-        if (y / a) ** 2 + (z / b) ** 2 > 1.0:
-            hi = u
-        else:
-            lo = u
-    return 0.5 * (lo + hi)
+    y, z, ny, nz = float(point[1]), float(point[2]), float(normal[1]), float(normal[2])
+    A = (ny / a) ** 2 + (nz / b) ** 2
+    B = 2.0 * (y * ny / a**2 + z * nz / b**2)
+    C = (y / a) ** 2 + (z / b) ** 2 - 1.0
+    u = (-B + math.sqrt(max(0.0, B * B - 4.0 * A * C))) / (2.0 * A)
+    return min(max(u, 0.0), 4 * p.hull.wall_thickness_mm + 5.0)
 
 
 def _inner_point(p: Params, s_mm: float, z_mm: float, side: int):
@@ -265,8 +265,10 @@ def _floor_needed(p: Params, loads: tuple[MountLoads, ...]) -> float:
     return max(least, math.ceil(need / LOAD_FLOOR_STEP_MM - 1e-9) * LOAD_FLOOR_STEP_MM)
 
 
+@functools.lru_cache(maxsize=64)
 def wall_fixings(p: Params) -> tuple[WallFixing, ...]:
-    """Every mount's wall screws, the pad's floor sized for the worst one's load."""
+    """Every mount's wall screws, the pad's floor sized for the worst one's load. Memoised on the params (the
+    hull's cuts, the mounts and the loader read it; see :func:`swiftfin.layout.hull_plan.hull_pieces`)."""
     floor = p.print.perimeters * p.print.line_width_mm
     for _ in range(6):
         fx = _place(p, floor)
