@@ -123,7 +123,7 @@ CONTACTS: tuple[Contact, ...] = (
     Contact(r"joint_link_\d+", r"hull_.+", "a joint link turns in the clevis of the segment ahead: lugs and "
             "pins with print.clearance_sliding_mm, checked over the joint's range", link_delta=-1,
             near_joint_mm=25.0),
-    Contact(r"caudal_fin", r"hull_peduncle_.+", "the fin's root tang slides into the peduncle's slot "
+    Contact(r"caudal_fin", r"hull_peduncle(_.+)?", "the fin's root tang slides into the peduncle's slot "
             "(sliding fit, cross screws) (cad/fin.py)", link_delta=0),
     Contact(r"spool_(?P<j>\d+)", r"motor_(?P<j>\d+)", "a spool sits on its motor's shaft (bore = shaft + sliding "
             "clearance, set screw on the flat)"),

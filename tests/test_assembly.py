@@ -179,3 +179,14 @@ def test_clevis_contact_applies_only_near_the_joint():
     front = placed("hull_head_front_upper", box(-s1 + 150, -s1 + 260, -20, 20, 0, 20), link=0)
     assert "clevis" in contact_reason(rear, link, CONTACTS, P)
     assert contact_reason(front, link, CONTACTS, P) is None
+
+
+def test_the_fin_slot_contact_holds_for_a_hull_not_split_in_halves():
+    """With hull.split_halves = false the peduncle is one part, 'hull_peduncle': the fin's tang still slides into
+    its slot (declared contact), as in the split hull's 'hull_peduncle_lower' (a build without halves failed on it)."""
+    from swiftfin.cad.assembly import CONTACTS, contact_reason
+
+    fin = placed("caudal_fin", box(-500, -480, -2, 2, -10, 10), link=4)
+    for label in ("hull_peduncle", "hull_peduncle_lower"):
+        ped = placed(label, box(-480, -440, -10, 10, -10, 10), link=4)
+        assert "slot" in contact_reason(fin, ped, CONTACTS, P), label
