@@ -202,7 +202,8 @@ def tool_path_problems(f: Fastener, manifolds: dict, goes_in_with: dict | None =
         vol = (tool ^ man).volume()
         if vol > TOOL_OVERLAP_MM3:
             out.append(f"{f.label}: the driver's path to its head ({2 * r:g} mm shank, {TOOL_REACH_MM:g} mm along "
-                       f"the axis from {tuple(round(c, 1) for c in start)}) runs into {label} ({vol:.1f} mm^3)")
+                       f"the axis from ({', '.join(f'{float(c):.1f}' for c in start)}) mm) runs into {label} "
+                       f"({vol:.1f} mm^3)")
     return out
 
 
