@@ -251,7 +251,7 @@ def plan_steps(p: Params, parts: list[Placed], fasteners=(), glued: dict[str, st
     units = [q.label for q in parts if q.label not in glued]
     holders: dict[str, list] = {}
     for f in fasteners:
-        for q in {f.head_part, f.thread_part, f.meta.get("slip_part")} - {None}:
+        for q in f.parts:
             holders.setdefault(q, []).append(f)
     present = set(by_label)
     removed: list[tuple[str, str, float]] = []
@@ -268,7 +268,7 @@ def plan_steps(p: Params, parts: list[Placed], fasteners=(), glued: dict[str, st
                 continue
             prefer = REMOVAL[_rule(lb)][1]
             moving = [by_label[q] for q in group]
-            still = [by_label[q] for q in present if q not in group]
+            still = [q for q in parts if q.label in present and q.label not in group]   # build order: reproducible
             found = None
             mine = []
             for d in list(prefer) + [d for d in AXES if d not in prefer]:
@@ -302,8 +302,7 @@ def plan_steps(p: Params, parts: list[Placed], fasteners=(), glued: dict[str, st
         rule = _rule(lb)
         last = steps[-1] if steps else None
         after_a_screw_of_last = last is not None and any(
-            set(group) & set(f.installed_after) and ({f.head_part, f.thread_part, f.meta.get("slip_part")}
-                                                     & set(last.parts))
+            set(group) & set(f.installed_after) and f.parts & set(last.parts)
             for f in fasteners)
         if last is not None and last.direction == ins and _rule(last.parts[0]) == rule and not after_a_screw_of_last:
             steps[-1] = Step(last.number, last.text, last.parts + group, ins, last.travel_mm + (travel,) * len(group))
@@ -315,7 +314,7 @@ def plan_steps(p: Params, parts: list[Placed], fasteners=(), glued: dict[str, st
     placed_at = {q: s.number for s in steps for q in s.parts}
     driven: dict[int, list[str]] = {}
     for f in fasteners:
-        qs = {f.head_part, f.thread_part, f.meta.get("slip_part")} - {None}
+        qs = f.parts
         missing = qs - set(placed_at)
         if missing:
             raise BuildError(f"assembly steps: fastener {f.label} joins parts that are not built: {sorted(missing)}")
