@@ -61,6 +61,11 @@ class Fastener:
     meta: dict = field(default_factory=dict, compare=False, hash=False)
 
     @property
+    def parts(self) -> frozenset[str]:
+        """The parts it joins: under its head, holding its thread, and (a dowel) the part it slips in."""
+        return frozenset({self.head_part, self.thread_part, self.meta.get("slip_part")} - {None})
+
+    @property
     def screw(self) -> ScrewSize:
         return fastener(self.size)
 

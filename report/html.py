@@ -99,6 +99,16 @@ class Progress:
 ASSEMBLY_VIEW_FACE_FRACTION = 0.35
 
 
+def view_mesh(memo, label: str, vertices, faces) -> tuple:
+    """A part's mesh for the assembly views: ``ASSEMBLY_VIEW_FACE_FRACTION`` of its triangles (vertex clustering),
+    from the memo (stage "view_mesh") when it has it."""
+    from swiftfin.exports.parallel import memoized
+    from swiftfin.report.render import cluster_decimate
+
+    n = max(200, int(ASSEMBLY_VIEW_FACE_FRACTION * len(faces)))
+    return memoized(memo, "view_mesh", (label,), [n], lambda: cluster_decimate(vertices, faces, n))
+
+
 def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
                     memo=None, jobs: int | None = 1) -> tuple[dict, dict[str, bytes], float]:
     """Assembly pictures ({'exterior', 'cutaway'}) and one picture per printed part; returns the seconds taken.
@@ -107,7 +117,6 @@ def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
     from swiftfin.report.render import MeshItem, png_bytes, render
 
     from swiftfin.exports.parallel import map_parts, memoized
-    from swiftfin.report.render import cluster_decimate
 
     t0 = time.perf_counter()
     items = {p.label: MeshItem(p.vertices, p.faces, FAMILY_COLORS.get(p.family, OTHER_COLOR), p.label) for p in parts}
@@ -118,8 +127,7 @@ def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
                       lambda: png_bytes(render(what, w, h, azimuth_deg=az, elevation_deg=el, max_faces=10**9)))
 
     def view_item(it: MeshItem) -> MeshItem:
-        n = max(200, int(ASSEMBLY_VIEW_FACE_FRACTION * len(it.faces)))
-        v, f = memoized(memo, "view_mesh", (it.name,), [n], lambda: cluster_decimate(it.vertices, it.faces, n))
+        v, f = view_mesh(memo, it.name, it.vertices, it.faces)
         return MeshItem(v, f, it.color, it.name)
 
     out = {}
@@ -147,7 +155,7 @@ def render_step_pictures(parts: list[ReportPart], steps: dict, progress: Callabl
     place in light grey, the step's parts in their family's colour, set back against their way in by
     ``explode_mm`` (the parts not yet in are not drawn). Step number -> PNG."""
     from swiftfin.exports.parallel import memoized
-    from swiftfin.report.render import MeshItem, cluster_decimate, png_bytes, render
+    from swiftfin.report.render import MeshItem, png_bytes, render
 
     by = {p.label: p for p in parts}
     w, h, az, el = STEP_VIEW
@@ -157,9 +165,7 @@ def render_step_pictures(parts: list[ReportPart], steps: dict, progress: Callabl
 
     def view(label: str):
         if label not in views:
-            q = by[label]
-            n = max(200, int(ASSEMBLY_VIEW_FACE_FRACTION * len(q.faces)))
-            views[label] = memoized(memo, "view_mesh", (label,), [n], lambda: cluster_decimate(q.vertices, q.faces, n))
+            views[label] = view_mesh(memo, label, by[label].vertices, by[label].faces)
         return views[label]
 
     drawn = [s for s in steps.get("steps", []) if s.get("parts") and all(q in by for q in s["parts"])]

@@ -227,11 +227,10 @@ def build_parts(p: Params, cache: FamilyCache | None = None,
 
 
 def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=None) -> None:
-    from swiftfin.cad.assembly import PassedPairs, Placed, check_assembly
+    from swiftfin.cad.assembly import PassedPairs, check_assembly
 
     t0 = time.perf_counter()
-    placed = [Placed(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
-              for b in result.parts]
+    placed = placed_parts(result)
     passed = PassedPairs(cache.root / "assembly-pairs") if cache is not None else None
     result.assembly_stats = check_assembly(result.params, placed, progress=progress, passed=passed)
     result.fastener_report = check_fasteners_built(result, placed)
@@ -239,43 +238,47 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
     result.check_time_s = time.perf_counter() - t0
 
 
+def placed_parts(result: BuildResult) -> list:
+    """The built parts as the assembly checks take them (cad.assembly.Placed: label, link, family, mesh)."""
+    from swiftfin.cad.assembly import Placed
+
+    return [Placed(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
+            for b in result.parts]
+
+
+def _built_fasteners(result: BuildResult, placed) -> tuple[list, dict[str, str]]:
+    """The fasteners whose parts were all built (all of them in a whole build: tests/test_fasteners.py proves every
+    record names parts of the design; a build of some families has only theirs), and glued part -> its host."""
+    from swiftfin.cad.fastening import all_fasteners
+
+    built = {q.label for q in placed}
+    fasteners = [f for f in all_fasteners(result.params) if f.parts <= built]
+    glued = {b.spec.label: b.spec.meta["glued_to"] for b in result.parts if b.spec.meta.get("glued_to")}
+    return fasteners, glued
+
+
 def plan_assembly(result: BuildResult, placed=None, cache: FamilyCache | None = None, progress=None):
     """The assembly steps of the built parts (cad/assembly_steps.py): each part's way in proved clear of what is
     already placed, the fasteners and the cabling in order. BuildError when no order puts the parts together."""
-    from swiftfin.cad.assembly import Placed
     from swiftfin.cad.assembly_steps import plan_steps
-    from swiftfin.cad.fastening import all_fasteners
     from swiftfin.core.params import to_dict
 
-    if placed is None:
-        placed = [Placed(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
-                  for b in result.parts]
+    placed = placed_parts(result) if placed is None else placed
     if progress:
         progress("  planning the assembly steps (each part's way in, proved clear of what is already placed) ...")
-    built = {q.label for q in placed}
-    fasteners = [f for f in all_fasteners(result.params)
-                 if {f.head_part, f.thread_part, f.meta.get("slip_part")} - {None} <= built]
-    glued = {b.spec.label: b.spec.meta["glued_to"] for b in result.parts if b.spec.meta.get("glued_to")}
+    fasteners, glued = _built_fasteners(result, placed)
     memo = stage_memo(result, cache)
-    return memo("assembly_steps", tuple(sorted(built)), [to_dict(result.params), sorted(f.label for f in fasteners)],
+    return memo("assembly_steps", tuple(sorted(q.label for q in placed)),
+                [to_dict(result.params), sorted(f.label for f in fasteners)],
                 lambda: plan_steps(result.params, placed, fasteners, glued))
 
 
 def check_fasteners_built(result: BuildResult, placed=None):
     """The fastener rules on the built solids (cad/fastener_check.py); BuildError lists every failure."""
-    from swiftfin.cad.assembly import Placed
     from swiftfin.cad.fastener_check import check_fasteners
-    from swiftfin.cad.fastening import all_fasteners
 
-    if placed is None:
-        placed = [Placed(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
-                  for b in result.parts]
-    # the fasteners whose parts were all built (all of them in a whole build: tests/test_fasteners.py proves every
-    # record names parts of the design; a build of some families only checks theirs)
-    built = {q.label for q in placed}
-    fasteners = [f for f in all_fasteners(result.params)
-                 if {f.head_part, f.thread_part, f.meta.get("slip_part")} - {None} <= built]
-    glued = {b.spec.label: b.spec.meta["glued_to"] for b in result.parts if b.spec.meta.get("glued_to")}
+    placed = placed_parts(result) if placed is None else placed
+    fasteners, glued = _built_fasteners(result, placed)
     return check_fasteners(result.params, fasteners, {q.label: q.manifold for q in placed}, goes_in_with=glued)
 
 

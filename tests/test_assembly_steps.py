@@ -108,13 +108,11 @@ def test_a_glued_part_goes_in_with_its_host():
 @pytest.fixture(scope="module")
 def default_plan(default_params, tmp_path_factory):
     from swiftfin.cache import FamilyCache
-    from swiftfin.cad.assembly import Placed as Pl
-    from swiftfin.pipeline import build_parts, plan_assembly
+    from swiftfin.pipeline import build_parts, placed_parts, plan_assembly
 
     result = build_parts(default_params, FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
-    placed_parts = [Pl(b.spec.label, b.spec.link, b.spec.family, b.export.mesh.vertices, b.export.mesh.faces)
-                    for b in result.parts]
-    return result, placed_parts, plan_assembly(result, placed_parts)
+    placed = placed_parts(result)
+    return result, placed, plan_assembly(result, placed)
 
 
 def test_every_part_fastener_cable_and_tube_of_the_default_design_goes_in_once(default_plan, default_params):
