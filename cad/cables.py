@@ -58,7 +58,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from swiftfin.cad.assembly import Placed, cable_clearance_mm, chain_transform, link_transform
-from swiftfin.cad.guide import arc_points, bend_channel, guide_blocks
+from swiftfin.cad.guide import arc_points, bend_channel, channel_centre_lines, guide_blocks
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L
@@ -117,7 +117,7 @@ class TubeRun:
 class CableBend:
     """A bend of a cable or tube: the largest turn over the joint's range and the radius it is made with."""
     label: str                   # the cable or tube
-    kind: str                    # "exit", "bay" (guide channel), "hinge", "sector", "drum", "tube"
+    kind: str                    # "exit", "drop", "bay" (guide channel), "hinge", "sector", "drum", "tube"
     angle_rad: float
     radius_mm: float
     limit_mm: float
@@ -212,21 +212,9 @@ def cable_pieces(p: Params) -> tuple[CablePiece, ...]:
     return tuple(out)
 
 
-def _channel_line(ch) -> np.ndarray:
-    step = SAMPLE_STEP_MM
-    parts = []
-    a, b = np.asarray(ch.p_in, float), np.asarray(ch.t1, float)
-    n = max(2, int(math.ceil(np.linalg.norm(b - a) / step)) + 1)
-    parts.append(a + np.linspace(0, 1, n)[:, None] * (b - a))
-    if ch.angle_rad > 1e-9:
-        parts.append(_arc_samples(ch))
-        a = np.asarray(ch.t2, float)
-    else:
-        a = b
-    b = np.asarray(ch.p_out, float)
-    n = max(2, int(math.ceil(np.linalg.norm(b - a) / step)) + 1)
-    parts.append(a + np.linspace(0, 1, n)[:, None] * (b - a))
-    return _dedupe(np.vstack(parts))
+def _straight_samples(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    n = max(2, int(math.ceil(np.linalg.norm(b - a) / SAMPLE_STEP_MM)) + 1)
+    return a + np.linspace(0, 1, n)[:, None] * (b - a)
 
 
 def _densify(pts: np.ndarray, step: float) -> np.ndarray:
@@ -237,16 +225,17 @@ def _densify(pts: np.ndarray, step: float) -> np.ndarray:
     return np.asarray(out)
 
 
-def _inside_block(b, pts: np.ndarray) -> np.ndarray:
+def _inside_block(b, pts: np.ndarray, keep_out_pad_mm: float = 0.0) -> np.ndarray:
     """Which points lie in the guide block's printed body before its channels are cut (box, hull clip,
-    spool keep-outs, notch), as :func:`swiftfin.cad.guide.guide_solid` makes it."""
+    spool keep-outs, notch), as :func:`swiftfin.cad.guide.guide_solid` makes it. ``keep_out_pad_mm`` widens the
+    spool keep-outs (a tube's centre line stops its radius short of a spool's envelope, so its rim does too)."""
     (x0, x1), (y0, y1), (z0, z1) = b.x_mm, b.y_mm, b.z_mm
     x, y, z = pts[:, 0], pts[:, 1], pts[:, 2]
     ok = (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1) & (z >= z0) & (z <= z1)
     a, h = b.clip_ellipse_mm
     ok &= (y / a) ** 2 + (z / h) ** 2 <= 1.0
     for kx, ky, kr in b.keep_out_mm:
-        ok &= np.hypot(x - kx, y - ky) >= kr
+        ok &= np.hypot(x - kx, y - ky) >= kr + keep_out_pad_mm
     if b.notch_mm is not None:
         nx, nz = b.notch_mm
         ok &= ~((x >= nx) & (z < nz))
@@ -275,12 +264,12 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
     g = p.guides
     out = []
     for b in guide_blocks(p):
-        for ch in b.channels:
-            line = _channel_line(ch)
-            runs = [(i, k) for i, k in _runs(_inside_block(b, line)) if _length(line[i:k + 1]) >= MIN_TUBE_MM]
+        for joint, side, line in channel_centre_lines(b, _arc_samples, _straight_samples):
+            line = _dedupe(line)
+            runs = [(i, k) for i, k in _runs(_inside_block(b, line, g.ptfe_tube_od_mm / 2)) if _length(line[i:k + 1]) >= MIN_TUBE_MM]
             for n, (i, k) in enumerate(runs):
-                label = f"tube_{b.label}_{ch.joint}_{SIDE_NAME[ch.side]}{_suffix(n, len(runs))}"
-                out.append(TubeRun(label, ch.joint, ch.side, 0, "guide", b.label, tuple(map(tuple, line[i:k + 1])),
+                label = f"tube_{b.label}_{joint}_{SIDE_NAME[side]}{_suffix(n, len(runs))}"
+                out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, line[i:k + 1])),
                                    g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
     from swiftfin.cad.hull import _bulkheads, hull_pieces   # the bulkheads the hull cuts its cable holes in
     hw = {h.joint: h for h in all_joint_hardware(p)}
@@ -364,7 +353,7 @@ def cable_bends(p: Params, pieces=None, tubes=None) -> tuple[CableBend, ...]:
         name = f"cable_{J}_{SIDE_NAME[side]}"
         pts = route.points_mm
         for k, bend in enumerate(route.bends, start=1):
-            if bend.kind in ("exit", "bay"):
+            if bend.kind in ("exit", "drop", "bay"):
                 out.append(CableBend(name, bend.kind, bend.angle_rad, p.guides.min_bend_radius_mm - ride, lim_c,
                                      bend.point_mm))
             else:

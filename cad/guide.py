@@ -27,7 +27,7 @@ and the radius.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from swiftfin.cad.kernel import Edge, Face, Plane, Solid, Transition, Wire
@@ -157,6 +157,30 @@ def arc_points(ch: Channel, n: int = 33) -> np.ndarray:
     return np.array([c + math.cos(f) * a + math.sin(f) * w for f in np.linspace(0, ch.angle_rad, n)])
 
 
+def channel_centre_lines(b: "GuideBlock", arc=arc_points, straight=None) -> list[tuple[int, int, np.ndarray]]:
+    """Each cable's centre line through the block, ``(joint, side, points)``: straight in, arc, straight out, with a
+    lane's drop and turn (two channels sharing the straight between them) joined into one line. ``arc(ch)`` gives
+    the points of a channel's arc, t1 to t2; ``straight(a, b)`` those of a straight stretch (default: its ends)."""
+    straight = straight or (lambda a, c: np.array([a, c], dtype=float))
+    chains: list[list[Channel]] = []
+    for ch in b.channels:
+        last = chains[-1][-1] if chains else None
+        if last is not None and (last.joint, last.side) == (ch.joint, ch.side) and np.allclose(last.p_out, ch.t1):
+            chains[-1].append(ch)
+        else:
+            chains.append([ch])
+    out = []
+    for chain in chains:
+        parts, start = [], chain[0].p_in
+        for ch in chain:
+            parts += [straight(np.asarray(start, float), np.asarray(ch.t1, float)),
+                      arc(ch) if ch.angle_rad > 1e-9 else np.array([ch.t1], dtype=float)]
+            start = ch.t2 if ch.angle_rad > 1e-9 else ch.t1
+        parts.append(straight(np.asarray(start, float), np.asarray(chain[-1].p_out, float)))
+        out.append((chain[0].joint, chain[0].side, np.vstack(parts)))
+    return out
+
+
 def _check_arc(label: str, ch: Channel, x_lo: float, x_hi: float, seg_in: float, seg_out: float,
                axes=(), keep_out: float = 0.0) -> None:
     t = ch.radius_mm * math.tan(ch.angle_rad / 2)
@@ -256,18 +280,23 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     # between the rear motor's own two cables (they leave the drum at y = +/- its radius), two lines of wall from each
     y_post = min(p.motor.hole_spacing_mm / 4, d.drum_radius_mm - r_ch - hole_r - 2 * pr.line_width_mm)
     screws = ((x_post, y_post), (x_post, -y_post)) if y_post >= post_r else ((x_post, 0.0),)
-    x_hi = min(rear.x_mm, x_post + post_r + wall)
     env_r = d.flange_radius_mm + c
     chans = []
     for r in routes:
-        k = next(i for i, b in enumerate(r.bends) if b.kind == "bay") + 1
         pts = r.points_mm
-        ch = bend_channel(pts[k - 1], pts[k], pts[k + 1], R, dia, r.joint + 1, r.side, reach)
-        chans.append((ch, float(np.linalg.norm(np.subtract(pts[k], pts[k - 1]))),
-                      float(np.linalg.norm(np.subtract(pts[k + 1], pts[k])))))
+        seg = [float(np.linalg.norm(np.subtract(pts[k + 1], pts[k]))) for k in range(len(pts) - 1)]
+        made = [(bend_channel(pts[k - 1], pts[k], pts[k + 1], R, dia, r.joint + 1, r.side, reach), seg[k - 1], seg[k])
+                for k in (i + 1 for i, b in enumerate(r.bends) if b.kind in ("drop", "bay"))]
+        if len(made) == 2:   # a lane's drop then its turn: the straight between them holds both arcs' tangents
+            (a, a_in, a_out), (b, b_in, b_out) = made
+            ta, tb = (ch.radius_mm * math.tan(ch.angle_rad / 2) for ch in (a, b))
+            made = [(replace(a, p_out=b.t1), a_in, a_out - tb), (replace(b, p_in=a.t2), b_in - ta, b_out)]
+        chans += made
     x_lo = min(float(arc_points(ch)[:, 0].min()) for ch, _, _ in chans) - g.ptfe_tube_od_mm
+    x_hi = min(rear.x_mm, max([x_post + post_r + wall]
+                              + [float(arc_points(ch)[:, 0].max()) + g.ptfe_tube_od_mm for ch, _, _ in chans]))
     for ch, a, b in chans:
-        _check_arc(label, ch, x_lo, rear.x_mm - F / 2, a, b, ((rear.x_mm, 0.0),), env_r + g.ptfe_tube_od_mm / 2)
+        _check_arc(label, ch, x_lo, x_hi, a, b, ((rear.x_mm, 0.0),), env_r + g.ptfe_tube_od_mm / 2)
     chans = [ch for ch, _, _ in chans]
     # extents of the channel centre lines inside [x_lo, x_hi]
     samples = []

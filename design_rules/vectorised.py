@@ -575,7 +575,8 @@ class _Group:
         od = c("guides.ptfe_tube_od_mm")
         lane = self.flange_r + c("print.clearance_assembly_mm") + od / 2 + (j - 1) * (od + 2 * lw)
         self.lane = np.where(j == 0, 0.0, lane)
-        self.bay_end = self.motor_s[0] + F / 2 + c("guides.min_bend_radius_mm") / 2
+        self.drop_s = self.motor_s[0] + F / 2                                  # layout.geometry.drop_station_mm
+        self.bay_end = self.drop_s + 5 * c("guides.min_bend_radius_mm") / 8    # layout.geometry.bay_end_station_mm
 
     # ---------------------------------------------------------------- cable routes
     @staticmethod
@@ -598,7 +599,7 @@ class _Group:
         (2, n, N), sides (+1, -1); and the designs with a route that has no tangent."""
         c, n, N = self.col, self.n, self.N
         m = c("joints.tendon_moment_arm_mm")
-        x_bay = -self.bay_end
+        x_bay, x_drop = -self.bay_end, -self.drop_s
         lw, od = c("print.line_width_mm"), c("guides.ptfe_tube_od_mm")
         pitch_t = od + 2 * c("print.clearance_sliding_mm") + MIN_WEB_LINES * lw
         mb = c("guides.min_bend_radius_mm")
@@ -613,13 +614,13 @@ class _Group:
                 pts = []
                 if j == 0:
                     y_lane = side * self.drum_r
-                    pts.append((x_m, y_lane, z_s))
+                    pts += [(x_m, y_lane, z_s), (x_drop, y_lane, z_s)]
                 else:
                     y_lane = side * self.lane[j]
                     x_in = x_m - self.flange_r - mb / 2
                     sx, sy = self._tangent(x_in, y_lane, x_m, 0.0, self.drum_r, side)
-                    pts += [(sx, sy, z_s), (x_in, y_lane, z_s)]
-                pts.append((x_bay, y_lane, z_s))
+                    pts += [(sx, sy, z_s), (x_in, y_lane, z_s), (x_drop, y_lane, z_s),
+                            (x_bay, y_lane, z_s - j * pitch_t / 3)]             # layout.geometry.lane_drop_mm
                 for k in range(j):
                     pts.append((-self.js[k], zeros, z_t))
                 last = pts[-1]

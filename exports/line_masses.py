@@ -75,12 +75,6 @@ def cable_masses(p: Params) -> list[PartMass]:
     return out
 
 
-def _channel_centre_line(ch, n_arc: int = 33) -> np.ndarray:
-    from swiftfin.cad.guide import arc_points
-    mid = arc_points(ch, n_arc) if ch.angle_rad > 1e-9 else np.array([ch.t1])
-    return np.vstack([np.asarray(ch.p_in, float), mid, np.asarray(ch.p_out, float)])
-
-
 def _clip_polyline_x(pts: np.ndarray, x_lo: float, x_hi: float) -> list[tuple[np.ndarray, np.ndarray]]:
     """Pieces of a polyline with x inside [x_lo, x_hi]."""
     out = []
@@ -100,7 +94,7 @@ def ptfe_tube_masses(p: Params) -> list[PartMass]:
     line of :class:`cad.guide.Channel`) clipped to its block's length, one entry per link. A tube is a hollow
     cylinder: mass rho pi (OD^2 - ID^2) / 4 per metre; its inertia across is taken as a solid rod's of the outer
     radius scaled to that mass (the radial term is < 1e-3 of the total for a piece longer than 5 OD)."""
-    from swiftfin.cad.guide import guide_blocks
+    from swiftfin.cad.guide import channel_centre_lines, guide_blocks
     g = p.guides
     r_o, r_i = g.ptfe_tube_od_mm / 2, g.ptfe_tube_id_mm / 2
     rho_l = g.ptfe_density_kg_m3 * math.pi * units.length_m(1.0) ** 2 * (r_o**2 - r_i**2)   # kg/m
@@ -108,8 +102,8 @@ def ptfe_tube_masses(p: Params) -> list[PartMass]:
     ends: dict[int, list[np.ndarray]] = {}
     for block in guide_blocks(p):
         x_lo, x_hi = block.x_mm
-        for ch in block.channels:
-            for a, b in _clip_polyline_x(_channel_centre_line(ch), x_lo, x_hi):
+        for _, _, line in channel_centre_lines(block):
+            for a, b in _clip_polyline_x(line, x_lo, x_hi):
                 length_m = units.length_m(float(np.linalg.norm(b - a)))
                 if length_m <= 0:
                     continue

@@ -16,7 +16,9 @@ Frames and conventions (used by every module of the project)
 * Motors stand in a row in the head, shafts up (+z), the stack (motor + spool) centred on the body axis;
   the rear-most motor drives joint 1. The cables of the motors ahead of it run aft in lanes beside the
   spools behind, one lane further out per motor ("exit" guides turn them into the lanes).
-* Behind the motor row, "bay" guides turn every cable down toward the hinge line of joint 1.
+* Behind the motor row one "bay" guide turns every cable toward the hinge line of joint 1. Just past the rear
+  spool's flange the lanes first "drop" (each a third of a level pitch lower than the lane inside it, so that the fan of
+  runs to the hinge line keeps its tubes apart) while joint 1's own cable turns toward its sector.
 * Cables cross the joints ahead of their own *on the hinge line* (y = 0), each at its own height
   (pairs stacked upward from the axis, the last joint lowest), so a joint's
   rotation does not change their length: no coupling between joints. They leave the hinge line of the
@@ -233,8 +235,34 @@ def motor_placements(p: Params) -> tuple[MotorPlacement, ...]:
 
 
 def bay_end_station_mm(p: Params) -> float:
-    """Station of the bay guides: just behind the rear motor's frame."""
-    return motor_placements(p)[0].s_mm + p.motor.frame_size_mm / 2 + p.guides.min_bend_radius_mm / 2
+    """Station of the bay guide's turn toward joint 1: 5/8 of the guide's bend radius behind the rear motor's aft
+    face (:func:`drop_station_mm`), so that a lane's drop and turn both fit, as arcs of that radius, on the straight
+    between them: 3.3 mm to spare on the default design, 2.4 mm with a 30 mm drum (at half a radius that drum's
+    outer lane lacked 0.4 mm and the guide was refused)."""
+    return drop_station_mm(p) + 5 * p.guides.min_bend_radius_mm / 8
+
+
+def drop_station_mm(p: Params) -> float:
+    """Station where the lanes begin to drop and joint 1's cable turns toward its sector: the rear motor's aft face.
+    Behind it the bay guide holds the bends, past the rear spool's flange and aft of the mount's wall pads; further
+    forward the guide would have to reach the pads of the rear mount's wall screws (the assembly check found it
+    0.37 mm from them at a quarter bend radius forward)."""
+    return motor_placements(p)[0].s_mm + p.motor.frame_size_mm / 2
+
+
+def lane_drop_mm(p: Params, joint: int) -> float:
+    """How far lane ``joint`` (0-based, >= 1) lies below its spool's cable plane at the bay corner: a third of a
+    level pitch per lane, counted outward.
+
+    Why: from the bay corner the lanes fan in to the hinge line of joint 1 (y = 0), the outer lanes to the lower
+    levels. Level with one another, two neighbouring runs start a lane pitch apart across and end two level pitches
+    apart in height, and in between come closer than a tube's diameter (4.2 mm of 4.9 on the default design, the
+    arcs included); and joint 1's own cable, which leaves the innermost lane outward and upward to its sector,
+    crosses the lanes in plan while they are still at its height. Stepped down a third of a level pitch per lane,
+    the runs start apart in height as well and draw apart (closest approach 4.81 mm between centre lines on the
+    default design, joint 1's right cable and joint 2's; the assembly check measures it on the tubes). Half a pitch
+    would bring the outer lane's channel onto the rear mount's screw heads (the bay guide refuses it)."""
+    return joint * tendon_level_pitch_mm(p) / 3
 
 
 # ----------------------------------------------------------------------------------------------- cable routes
@@ -244,7 +272,8 @@ class Bend:
     point_mm: tuple[float, float, float]
     angle_rad: float
     link: int
-    kind: str                # "exit" (behind a spool), "bay" (end of the motor bay), "hinge" (at a joint crossing)
+    kind: str                # "exit" (behind a spool), "drop" (a lane's step down in the bay guide), "bay" (the
+                             # bay guide's turn toward joint 1), "hinge" (at a joint crossing)
 
 
 @dataclass(frozen=True)
@@ -289,14 +318,17 @@ def _turn_angle(a, b, c) -> float:
 def cable_routes(p: Params) -> tuple[CableRoute, ...]:
     """Both cables of every joint, at rest.
 
-    spool tangent -> (motors ahead of the rear one) exit guide into its lane -> bay guide behind the motor
-    row -> the hinge lines of the joints ahead, on the axis (y = 0, z = +/- h_j) -> tangent to the tendon
-    sector of its joint (radius = moment arm, z = +/- h_j). Bends are the route's turning points.
+    spool tangent -> (motors ahead of the rear one) exit guide into its lane -> level along the lane to the drop
+    station, then down to the bay corner (:func:`lane_drop_mm` below the spool's plane) -> the hinge lines of the
+    joints ahead, on the axis (y = 0, z = +/- h_j) -> tangent to the tendon sector of its joint (radius = moment
+    arm, z = +/- h_j). Joint 1's cable turns at the drop station straight toward its sector. Bends are the
+    route's turning points.
     """
     js = joint_stations_mm(p)
     m = p.joints.tendon_moment_arm_mm
     d = spool_dims(p)
     x_bay = -bay_end_station_mm(p)
+    x_drop = -drop_station_mm(p)
     routes = []
     for mp in motor_placements(p):
         j = mp.joint
@@ -307,15 +339,15 @@ def cable_routes(p: Params) -> tuple[CableRoute, ...]:
             kinds: list[tuple[str, int]] = []
             if j == 0:
                 y_lane = side * d.drum_radius_mm
-                pts.append((mp.x_mm, y_lane, z_s))  # leaves the drum straight aft
+                pts += [(mp.x_mm, y_lane, z_s), (x_drop, y_lane, z_s)]  # leaves the drum straight aft
+                kinds.append(("bay", 0))
             else:
                 y_lane = side * mp.lane_y_mm
                 x_in = mp.x_mm - d.flange_radius_mm - p.guides.min_bend_radius_mm / 2
                 sx, sy = _tangent_point(x_in, y_lane, mp.x_mm, 0.0, d.drum_radius_mm, side)
-                pts += [(sx, sy, z_s), (x_in, y_lane, z_s)]
-                kinds.append(("exit", 0))
-            pts.append((x_bay, y_lane, z_s))
-            kinds.append(("bay", 0))
+                pts += [(sx, sy, z_s), (x_in, y_lane, z_s), (x_drop, y_lane, z_s),
+                        (x_bay, y_lane, z_s - lane_drop_mm(p, j))]
+                kinds += [("exit", 0), ("drop", 0), ("bay", 0)]
             for k in range(j):  # hinge-line crossings of the joints ahead
                 pts.append((-js[k], 0.0, z_t))
                 kinds.append(("hinge", k + 1))

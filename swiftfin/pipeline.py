@@ -55,6 +55,7 @@ class BuildResult:
     assembly_stats: dict = field(default_factory=dict)
     fastener_report: object = None     # cad.fastener_check.FastenerReport
     assembly_plan: object = None       # cad.assembly_steps.Plan
+    cable_stats: dict = field(default_factory=dict)   # the cables' and tubes' proof (empty: not a whole build)
 
 
 def _one_solid(spec: PartSpec):
@@ -233,9 +234,30 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
     placed = placed_parts(result)
     passed = PassedPairs(cache.root / "assembly-pairs") if cache is not None else None
     result.assembly_stats = check_assembly(result.params, placed, progress=progress, passed=passed)
+    result.cable_stats = check_cables_built(result, placed, passed, progress)
     result.fastener_report = check_fasteners_built(result, placed)
     result.assembly_plan = plan_assembly(result, placed, cache, progress)
     result.check_time_s = time.perf_counter() - t0
+
+
+def check_cables_built(result: BuildResult, placed=None, passed=None, progress=None) -> dict:
+    """The cables and PTFE tubes in the assembly (cad/cables.py): each swept along its route, moving with its links,
+    against every built part over the joints' range (the parts among themselves are the rigid check's). Only a
+    whole build: the cables run through the parts of every family. BuildError names the cable or tube, the part,
+    the gap and the joint angles."""
+    from swiftfin.cad.assembly import check_assembly
+    from swiftfin.cad.cables import cable_parts, tube_runs
+
+    if not set(FAMILIES) <= set(result.family_times_s):
+        return {}
+    if progress:
+        progress("  checking the cables and PTFE tubes against every part over the joints' range ...")
+    p = result.params
+    placed = placed_parts(result) if placed is None else placed
+    tubes = tube_runs(p)
+    meshes = cable_parts(p, None, tubes)
+    stats = check_assembly(p, placed + meshes, progress=progress, passed=passed, focus={q.label for q in meshes})
+    return {"cable_pieces": len(meshes) - len(tubes), "tubes": len(tubes), **stats}
 
 
 def placed_parts(result: BuildResult) -> list:
@@ -436,6 +458,11 @@ def summary_table(result: BuildResult) -> str:
                      f"range, {st['contact_pairs']} declared contacts do not interpenetrate, {st['inside_checked']} "
                      f"internal parts inside the hull ({st['pairs_remembered']} pair results remembered from earlier "
                      f"builds of the same parts)")
+    cs = result.cable_stats
+    if cs:
+        lines.append(f"cables and tubes clear: {cs['cable_pieces']} cable pieces and {cs['tubes']} PTFE tubes keep "
+                     f"their clearances to every part over the joints' range ({cs['pairs']} pairs, "
+                     f"{cs['contact_pairs']} declared contacts, {cs['pairs_remembered']} remembered)")
     fr = result.fastener_report
     if fr is not None and fr.fasteners:
         w = fr.worst_wall()

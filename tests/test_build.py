@@ -137,6 +137,7 @@ def test_default_design_builds_end_to_end(env, capsys):
     rc = main(["build", str(DEFAULT_DESIGN), "--out", "build"])
     out, err = capsys.readouterr()
     assert rc == 0, err[-3000:]
+    assert "cables and tubes clear:" in out                       # the cables' and tubes' proof ran in the build
     manifest = json.loads((env / "build" / "manifest.json").read_text())
     families = {p["family"] for p in manifest["parts"]}
     assert families == set(registry.FAMILIES)

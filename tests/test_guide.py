@@ -37,15 +37,22 @@ def _line_distance(q, a, b) -> float:
 
 
 def _route_bends(p):
-    """(block label, route, index of the bend's point) for every exit and bay bend."""
+    """(block label, route, index of the bend's point) for every exit, drop and bay bend."""
     out = []
     for r in L.cable_routes(p):
         for k, b in enumerate(r.bends, start=1):
             if b.kind == "exit":
                 out.append((f"guide_exit_{r.joint + 1}", r, k))
-            elif b.kind == "bay":
+            elif b.kind in ("drop", "bay"):
                 out.append(("guide_bay", r, k))
     return out
+
+
+def _channel_at(block, r, k):
+    """The block's bent channel through the route's k-th point."""
+    (ch,) = [c for c in block.channels if c.joint == r.joint + 1 and c.side == r.side and c.angle_rad > 0
+             and np.linalg.norm(np.subtract(c.bend_point, r.points_mm[k])) < 1e-9]
+    return ch
 
 
 def test_labels_and_validity(guides):
@@ -70,10 +77,10 @@ def test_every_exit_and_bay_bend_has_its_channel():
     p = Params()
     blocks = {b.label: b for b in guide_blocks(p)}
     bends = _route_bends(p)
-    assert len(bends) == 2 * p.joints.count + 2 * (p.joints.count - 1)
+    assert len(bends) == 2 * p.joints.count + 4 * (p.joints.count - 1)      # bay or drop + bay; exit
     R = p.guides.min_bend_radius_mm
     for label, r, k in bends:
-        (ch,) = [c for c in blocks[label].channels if c.joint == r.joint + 1 and c.side == r.side and c.angle_rad > 0]
+        ch = _channel_at(blocks[label], r, k)
         prev, corner, nxt = r.points_mm[k - 1], r.points_mm[k], r.points_mm[k + 1]
         assert ch.angle_rad == pytest.approx(r.bends[k - 1].angle_rad, rel=1e-9)
         assert ch.radius_mm == R
@@ -105,7 +112,7 @@ def test_channels_measured_on_the_solids(guides):
     solids = {g.label: g.solid for g in guides}
     r_ch = (p.guides.ptfe_tube_od_mm + p.print.clearance_sliding_mm) / 2
     for label, r, k in _route_bends(p):
-        (ch,) = [c for c in blocks[label].channels if c.joint == r.joint + 1 and c.side == r.side and c.angle_rad > 0]
+        ch = _channel_at(blocks[label], r, k)
         angle = 0.0
         for f in solids[label].faces():
             if f.geom_type.name != "TORUS":

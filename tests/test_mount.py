@@ -346,19 +346,21 @@ def test_a_spool_moved_into_its_guide_is_caught(drive_train):
 
 
 def test_a_mount_pulled_harder_than_its_wall_screws_hold_is_refused_naming_the_screw():
-    """A 4 N m motor on the default 20 mm drum pulls each cable side with 45 + 4 / 0.02 = 245 N: an M2's bearing
-    on the pad's floor needs ~18.6 mm of floor, longer than any M2 in the catalogue. The loader refuses the design
-    under hull.screw_diameter_mm with the load and the remedies (no traceback, no half-built part); an M3 holds."""
+    """A 6 N m motor on the default 20 mm drum pulls each cable side with 45 + 6 / 0.02 = 345 N: an M2's bearing
+    on the pad's floor needs ~19 mm of floor, longer than any M2 in the catalogue. The loader refuses the design
+    under hull.screw_diameter_mm with the load and the remedies (no traceback, no half-built part); an M3 holds.
+    (A 4 N m motor was refused until the lanes dropped in the bay guide: its bends now pull the rear mount lower
+    and its M2s need 13.6 mm.)"""
     from swiftfin.core.params import ParamError, replace_key
     from swiftfin.core.schema import Params
     from swiftfin.layout.design import check_design
     from swiftfin.layout.mount_plan import design_tension_n, wall_fixings
-    strong = replace_key(Params(), "motor.holding_torque_nm", 4.0)
-    assert design_tension_n(strong) == pytest.approx(245.0)
+    strong = replace_key(Params(), "motor.holding_torque_nm", 6.0)
+    assert design_tension_n(strong) == pytest.approx(345.0)
     with pytest.raises(ParamError) as err:
         check_design(strong, "strong.toml")
     text = str(err.value)
-    assert "hull.screw_diameter_mm = 2.0: no M2 screw of" in text and "design tension of 245 N" in text
+    assert "hull.screw_diameter_mm = 2.0: no M2 screw of" in text and "design tension of 345 N" in text
     assert "1 problem(s)" in text
     m3 = replace_key(strong, "hull.screw_diameter_mm", 3.0)
     assert all(f.length_mm <= 40 for f in wall_fixings(m3))

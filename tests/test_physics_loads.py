@@ -104,22 +104,22 @@ def test_drive_loads_hand_worked_joint1():
     z = np.zeros((n, 4))
     jl = ld.JointLoads(np.linspace(0, 1 / 3, n, endpoint=False), z, z + 1.0, z, z + 0.3)
     dl = ld.drive_loads(p, jl)
-    # joint 1 routes (swiftfin.layout.geometry): left 65.2441 mm, 0.275192 rad of bends; right 64.8546 mm, 0.230749 rad
-    # (since the pass-through holes follow the cables' real routes, issue 12).
-    # stiffness ~ 1/length: left share 64.8546 / 130.0987 = 0.498503, right 0.501497.
-    # T_left = 45 + (0.3 / 0.015) x 0.498503 = 54.97006 N; T_right = 45 - 20 x 0.501497 = 34.97006 N
-    assert dl.tension_left_joint_n[0, 0] == pytest.approx(54.97006, abs=1e-4)
-    assert dl.tension_right_joint_n[0, 0] == pytest.approx(34.97006, abs=1e-4)
-    # at the spool: left x e^(0.05 x 0.275192) = x 1.013855 -> 55.73165; right x e^(-0.05 x 0.230749) = x 0.988529
-    # -> 34.56891; motor torque (55.73165 - 34.56891) x 0.010 = 0.211627 N m
-    assert dl.motor_torque_nm[0, 0] == pytest.approx(0.211627, abs=1e-5)
-    # the plain-efficiency formula tau r / (m eta) = 0.2 / 0.986335 = 0.202771 misses the pretension's own friction
-    eta = math.exp(-0.05 * 0.275192)
-    assert float(ld.simple_motor_torque_nm(0.3, 0.010, 0.015, eta)) == pytest.approx(0.202771, abs=1e-5)
+    # joint 1 routes (swiftfin.layout.geometry): left 65.4491 mm, 0.211481 rad of bends; right 65.1500 mm, 0.177051 rad
+    # (since the cable turns toward its sector at the rear motor's aft face, issue 12).
+    # stiffness ~ 1/length: left share 65.1500 / 130.5991 = 0.498855, right 0.501145.
+    # T_left = 45 + (0.3 / 0.015) x 0.498855 = 54.97710 N; T_right = 45 - 20 x 0.501145 = 34.97710 N
+    assert dl.tension_left_joint_n[0, 0] == pytest.approx(54.97710, abs=1e-4)
+    assert dl.tension_right_joint_n[0, 0] == pytest.approx(34.97710, abs=1e-4)
+    # at the spool: left x e^(0.05 x 0.211481) = x 1.010630 -> 55.56151; right x e^(-0.05 x 0.177051) = x 0.991187
+    # -> 34.66883; motor torque (55.56151 - 34.66883) x 0.010 = 0.208927 N m
+    assert dl.motor_torque_nm[0, 0] == pytest.approx(0.208927, abs=1e-5)
+    # the plain-efficiency formula tau r / (m eta) = 0.2 / 0.989482 = 0.202126 misses the pretension's own friction
+    eta = math.exp(-0.05 * 0.211481)
+    assert float(ld.simple_motor_torque_nm(0.3, 0.010, 0.015, eta)) == pytest.approx(0.202126, abs=1e-5)
     # step rate: 1 rad/s x 1.5 / 0.0314159 rad = 47.7465 full steps/s
     assert dl.step_rate_full_steps_s[0, 0] == pytest.approx(47.7465, abs=1e-3)
-    # capstan capacity T_slack e^(0.35 x 4 pi) / T_tight = 34.56891 x 81.30680 / 55.73165
-    assert dl.capstan_capacity[0, 0] == pytest.approx(34.56891 * 81.30680 / 55.73165, rel=1e-5)
+    # capstan capacity T_slack e^(0.35 x 4 pi) / T_tight = 34.66883 x 81.30680 / 55.56151
+    assert dl.capstan_capacity[0, 0] == pytest.approx(34.66883 * 81.30680 / 55.56151, rel=1e-5)
 
 
 def test_default_design_goes_slack_and_tension_is_torque_over_arm():
