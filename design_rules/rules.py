@@ -7,6 +7,7 @@ file; the default limits are the paper's where it gives one.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -254,15 +255,21 @@ def _wall(rule_id: str, thickness_mm: float, what: str):
     return rule
 
 
+@functools.lru_cache(maxsize=4)
+def _bed_angles(n_angles: int) -> tuple[np.ndarray, np.ndarray]:
+    a = np.linspace(0.0, np.pi / 2, n_angles)
+    return np.cos(a), np.sin(a)
+
+
 def fits_bed(size_mm, bed_mm, n_angles: int = 361) -> bool:
     """Whether a box (dx, dy, dz) fits the bed (X, Y, Z), turned by any angle about z."""
     dx, dy, dz = size_mm
     X, Y, Z = bed_mm
     if dz > Z:
         return False
-    a = np.linspace(0.0, np.pi / 2, n_angles)
-    w = dx * np.cos(a) + dy * np.sin(a)
-    h = dx * np.sin(a) + dy * np.cos(a)
+    c, s = _bed_angles(n_angles)
+    w = dx * c + dy * s
+    h = dx * s + dy * c
     return bool(np.any((w <= X) & (h <= Y)))
 
 

@@ -151,8 +151,10 @@ def spool_travel_turns(p: Params, joint_index: int) -> float:
     return th * p.joints.tendon_moment_arm_mm / (p.spool.drum_diameter_mm / 2) / (2 * math.pi)
 
 
+@functools.lru_cache(maxsize=256)
 def spool_dims(p: Params) -> SpoolDims:
-    """One spool design for every motor, sized for the joint with the largest travel."""
+    """One spool design for every motor, sized for the joint with the largest travel. Memoised on the params (the
+    layout reads it thousands of times per design; a family cache's recording view is equal only to itself)."""
     s = p.spool
     travel = max(spool_travel_turns(p, j) for j in range(p.joints.count))
     turns = s.wraps + 2 * travel + s.groove_margin_turns + s.tension_storage_turns   # storage: split spool
@@ -315,8 +317,9 @@ def _turn_angle(a, b, c) -> float:
     return math.acos(max(-1.0, min(1.0, cosang)))
 
 
+@functools.lru_cache(maxsize=256)
 def cable_routes(p: Params) -> tuple[CableRoute, ...]:
-    """Both cables of every joint, at rest.
+    """Both cables of every joint, at rest (memoised on the params, as :func:`spool_dims`).
 
     spool tangent -> (motors ahead of the rear one) exit guide into its lane -> level along the lane to the drop
     station, then down to the bay corner (:func:`lane_drop_mm` below the spool's plane) -> the hinge lines of the

@@ -84,6 +84,15 @@ def hull_section_semi_axes_mm(p: Params, s_mm: float) -> tuple[float, float]:
     return w, p.body.height_to_width * w
 
 
+def hull_half_widths_mm(p: Params, s_mm: np.ndarray) -> np.ndarray:
+    """:func:`hull_section_semi_axes_mm`'s half-width at many stations at once (numpy; the same formulas)."""
+    cap = nose_cap(p)
+    s = np.asarray(s_mm, dtype=float)
+    v = (cap.a_mm - s) / cap.a_mm
+    in_cap = cap.b_mm * np.sqrt(np.maximum(0.0, 1 - v * v))
+    return np.where(s < cap.s_cap_mm, in_cap, L.naca_half_width_mm(p, s))
+
+
 @dataclass(frozen=True)
 class HullPiece:
     """One printed hull piece (before the split into halves): stations, link and what its ends carry."""
@@ -99,8 +108,7 @@ class HullPiece:
     rear_cut: bool = False              # station cut at the rear (open end, splice tab)
 
     def max_semi_axes_mm(self, p: Params) -> tuple[float, float]:
-        ss = np.linspace(self.s_start_mm, self.s_end_mm, 201)
-        w = max(hull_section_semi_axes_mm(p, float(s))[0] for s in ss)
+        w = float(np.max(hull_half_widths_mm(p, np.linspace(self.s_start_mm, self.s_end_mm, 201))))
         return w, p.body.height_to_width * w
 
 

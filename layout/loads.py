@@ -65,16 +65,19 @@ class FinGeometry:
     izz_com_kg_m2: float
 
 
-def ellipse_perimeter(a: float, b: float) -> float:
-    """Ramanujan's approximation of the perimeter of an ellipse of half-axes a, b (rel. error < 1e-4 here)."""
-    return math.pi * (3 * (a + b) - math.sqrt((3 * a + b) * (a + 3 * b)))
+def ellipse_perimeter(a, b):
+    """Ramanujan's approximation of the perimeter of an ellipse of half-axes a, b (rel. error < 1e-4 here);
+    numbers or arrays."""
+    return np.pi * (3 * (a + b) - np.sqrt((3 * a + b) * (a + 3 * b)))
 
 
-def _ellipse_y2_line_integral(a: float, b: float, n: int = 256) -> float:
-    """Integral of y^2 ds around the ellipse y = a cos u, z = b sin u [m^3]."""
+def _ellipse_y2_line_integral(a, b, n: int = 256):
+    """Integral of y^2 ds around the ellipse y = a cos u, z = b sin u [m^3]; numbers or arrays of a, b."""
     u = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
+    a, b = np.asarray(a, dtype=float)[..., None], np.asarray(b, dtype=float)[..., None]
     ds = np.sqrt((a * np.sin(u)) ** 2 + (b * np.cos(u)) ** 2) * (2 * np.pi / n)
-    return float(np.sum((a * np.cos(u)) ** 2 * ds))
+    out = np.sum((a * np.cos(u)) ** 2 * ds, axis=-1)
+    return float(out) if out.ndim == 0 else out
 
 
 def fin_geometry(p: Params) -> FinGeometry:
@@ -112,15 +115,14 @@ def shell_link_masses(p: Params, n_strips: int = 120) -> tuple[LinkMass, ...]:
             s = np.linspace(seg.s_start_mm, seg.s_end_mm, n_strips + 1) * MM
             sm = 0.5 * (s[1:] + s[:-1])
             ds = np.diff(s)
-            for si, dsi in zip(sm, ds):
-                a = float(naca_half_width_mm(p, si / MM)) * MM - t / 2
-                bb = float(half_height_mm(p, si / MM)) * MM - t / 2
-                if a <= 0 or bb <= 0:
-                    continue
-                dm = rho * t * ellipse_perimeter(a, bb) * dsi
-                m_tot += dm
-                first += dm * si
-                second += dm * si**2 + rho * t * dsi * _ellipse_y2_line_integral(a, bb)
+            a = np.asarray(naca_half_width_mm(p, sm / MM)) * MM - t / 2          # every strip at once
+            bb = np.asarray(half_height_mm(p, sm / MM)) * MM - t / 2
+            ok = (a > 0) & (bb > 0)
+            a, bb, sm_ok, ds_ok = a[ok], bb[ok], sm[ok], ds[ok]
+            dm = rho * t * ellipse_perimeter(a, bb) * ds_ok
+            m_tot += float(np.sum(dm))
+            first += float(np.sum(dm * sm_ok))
+            second += float(np.sum(dm * sm_ok**2 + rho * t * ds_ok * _ellipse_y2_line_integral(a, bb)))
             for s_end in (seg.s_start_mm * MM, seg.s_end_mm * MM):
                 a = float(naca_half_width_mm(p, s_end / MM)) * MM - t
                 bb = float(half_height_mm(p, s_end / MM)) * MM - t

@@ -71,5 +71,35 @@ def pytest_addoption(parser):
 
 
 @pytest.fixture(scope="session")
+def default_robot(default_params, default_parts, tmp_path_factory):
+    """The default design's robot folder (URDF, MJCF, SDF, meshes) and write_robot's summary, written once per session
+    (about 60 s; four test modules read it). Tests read it and must not change it."""
+    from swiftfin.exports.robot import write_robot
+    out = tmp_path_factory.mktemp("default_robot")
+    res = write_robot(default_params, default_parts, out)
+    return out, res
+
+
+@pytest.fixture(scope="session")
+def default_slices(default_params, default_parts, tmp_path_factory):
+    """PrusaSlicer on every printed part of the default design, once per session (about 60 s): label -> (the part's
+    export, the slicer's result for its 3MF alone, which carries the design's [print] settings). Read by the
+    slicer's and the print model's tests."""
+    require_tool("prusa-slicer", "the printed parts are sliced with PrusaSlicer (issues 2 and 15)")
+    from swiftfin.exports.files import export_part
+    from swiftfin.exports.slicer import slice_stl
+    folder = tmp_path_factory.mktemp("default_slices")
+    out = {}
+    for part in default_parts:
+        if not part.printed:
+            continue
+        ex = export_part(part, default_params)
+        threemf = folder / f"{part.label}.3mf"
+        threemf.write_bytes(ex.files[".3mf"])
+        out[part.label] = (ex, slice_stl(threemf, default_params, settings=False))
+    return out
+
+
+@pytest.fixture(scope="session")
 def update_golden(request):
     return request.config.getoption("--update-golden")

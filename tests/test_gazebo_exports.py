@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 
 from swiftfin.exports.hydro import FOSSEN_ADDED_MASS, FOSSEN_QUADRATIC, lamb_k1
-from swiftfin.exports.robot import write_robot
 from swiftfin.layout import geometry as layout
 from tests.conftest import require_tool
 
@@ -20,9 +19,8 @@ HERE = Path(__file__).resolve().parent
 
 
 @pytest.fixture(scope="module")
-def robot(default_params, default_parts, tmp_path_factory):
-    out = tmp_path_factory.mktemp("gazebo")
-    res = write_robot(default_params, default_parts, out)
+def robot(default_params, default_robot):
+    out, res = default_robot
     return default_params, out / "robot", res
 
 

@@ -90,13 +90,11 @@ RUN_S = 6.0                            # as the MuJoCo speed table (tests/test_m
 
 
 @pytest.fixture(scope="module")
-def real_robot(tmp_path_factory, default_params, default_parts):
-    """The default design's robot folder, written as in tests/test_mujoco_swim.py."""
+def real_robot(request):
+    """The default design's robot folder (conftest.default_robot, written once per session)."""
     from tests.conftest import require_module
     require_module("mujoco", "MuJoCo (the mujoco package) runs the swimming model")
-    from swiftfin.exports.robot import write_robot
-    out = tmp_path_factory.mktemp("lighthill_real")
-    write_robot(default_params, default_parts, out)
+    out, _ = request.getfixturevalue("default_robot")
     return out / "robot" / "swiftfin.xml"
 
 

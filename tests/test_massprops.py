@@ -251,27 +251,23 @@ def test_cable_mass_is_linear_density_times_length(default_params):
 # ----------------------------------------------------------------------------------------------- slicer
 @pytest.mark.slow
 @pytest.mark.slicer
-def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_params, default_parts, tmp_path, capsys):
+def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_params, default_parts, default_slices,
+                                                                   capsys):
     """The predicted plastic volume of every printed part of the default design is within 5 % of the
     filament PrusaSlicer extrudes for it, slicing the part's 3MF alone: no settings on the command line, only
-    the [print] settings the 3MF carries (issue 15; exports/files.threemf_bytes, exports/slicer.py)."""
-    from tests.conftest import require_tool
-    require_tool("prusa-slicer", "the printed-volume model is checked against PrusaSlicer")
-    from swiftfin.exports.files import export_part
-    from swiftfin.exports.slicer import slice_stl
+    the [print] settings the 3MF carries (issue 15; exports/files.threemf_bytes, exports/slicer.py). The slices
+    are the session's (conftest.default_slices)."""
     p = default_params
     pm = mp.PrintModel.from_params(p)
     rows = []
     for part in default_parts:
         if not part.printed:
             continue
-        ex = export_part(part, p)
-        threemf = tmp_path / f"{part.label}.3mf"
-        threemf.write_bytes(ex.files[".3mf"])
         mesh = mp.tessellate(part.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
         pred = mp.part_mass(part, pm, mesh, p.print.layer_height_mm).volume_material_m3 * 1e9
-        got = slice_stl(threemf, p, settings=False).filament_mm3
+        got = default_slices[part.label][1].filament_mm3
         rows.append((part.label, pred, got, 100 * (pred / got - 1)))
+    assert len(rows) == len(default_slices)
     with capsys.disabled():
         print("\n| part | predicted [mm^3] | PrusaSlicer [mm^3] | error [%] |\n|---|---:|---:|---:|")
         for label, pred, got, err in rows:

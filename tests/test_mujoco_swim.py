@@ -20,7 +20,6 @@ import numpy as np
 import pytest
 
 from swiftfin.layout import geometry as layout
-from swiftfin.exports.robot import write_robot
 from swiftfin.physics.kinematics import relative_joint_angles_rad, wave_from_params
 from tests.conftest import require_module
 
@@ -34,9 +33,8 @@ SPEED_RUN_S = 6.0                     # long enough for a steady mean speed (che
 
 
 @pytest.fixture(scope="module")
-def real_robot(tmp_path_factory, default_params, default_parts):
-    out = tmp_path_factory.mktemp("swim_real")
-    res = write_robot(default_params, default_parts, out)
+def real_robot(default_robot):
+    out, res = default_robot
     return out / "robot" / "swiftfin.xml", res
 
 

@@ -25,7 +25,10 @@ from tests.robot_helpers import mini_parts, mujoco_link_inertial
 def built(request, tmp_path_factory, default_params):
     p = default_params
     # the real parts come from the session fixture (built once for every test module that needs them)
-    parts = mini_parts(p) if request.param == "mini" else request.getfixturevalue("default_parts")
+    if request.param == "default":      # written once per session (conftest.default_robot)
+        out, res = request.getfixturevalue("default_robot")
+        return p, request.getfixturevalue("default_parts"), out, res
+    parts = mini_parts(p)
     out = tmp_path_factory.mktemp(f"robot_{request.param}")
     res = write_robot(p, parts, out)
     return p, parts, out, res

@@ -8,9 +8,7 @@ import pytest
 
 from swiftfin.exports.files import print_transform, stl_bytes, tessellate
 from swiftfin.exports.slicer import SlicerError, parse_duration_s, parse_gcode_summary, slice_stl, slicer_args
-from swiftfin.cache import FamilyCache
 from swiftfin.core.params import replace_key
-from swiftfin.pipeline import build_parts
 from swiftfin.core.schema import Params
 from tests.conftest import require_tool
 
@@ -94,20 +92,19 @@ def test_slicer_failure_is_a_clear_error(tmp_path):
 
 @pytest.mark.slow
 @pytest.mark.slicer
-def test_every_printed_part_of_the_default_design_slices(default_params, tmp_path, tmp_path_factory):
-    require_tool("prusa-slicer", WHY)
-    result = build_parts(default_params, FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
+def test_every_printed_part_of_the_default_design_slices(default_parts, default_slices):
+    """Every printed part's 3MF slices (the session's slices, conftest.default_slices: the 3MF alone, with the
+    settings it carries; test_a_3mf_alone_slices_with_the_design_settings_not_the_defaults and the cube tests cover
+    the settings passed on the command line)."""
+    printed = [part.label for part in default_parts if part.printed]
+    assert sorted(default_slices) == sorted(printed) and printed
     rows = []
-    for b in result.parts:
-        if not b.spec.printed:
-            continue
-        stl = tmp_path / f"{b.spec.label}.stl"
-        stl.write_bytes(b.export.files[".stl"])
-        r = slice_stl(stl, default_params)
+    for label in printed:
+        ex, r = default_slices[label]
         # the filament cannot exceed the solid part (plus the slicer's line overlap) nor vanish
-        assert 0.05 * b.export.volume_mm3 < r.filament_mm3 < 1.15 * b.export.volume_mm3, (b.spec.label, r)
-        rows.append((b.spec.label, b.export.volume_mm3, r.filament_mm3, r.print_time_s))
-    assert rows
+        assert 0.05 * ex.volume_mm3 < r.filament_mm3 < 1.15 * ex.volume_mm3, (label, r)
+        assert r.print_time_s > 0, (label, r)
+        rows.append((label, ex.volume_mm3, r.filament_mm3, r.print_time_s))
     print("\npart                         solid cm^3  filament cm^3  time min")
     for label, v, f, t in rows:
         print(f"{label:<28} {v / 1000:10.2f} {f / 1000:14.2f} {t / 60:9.1f}")
