@@ -17,6 +17,7 @@ Targets (issue 10): rebuild after the fin-span change <= 0.10 x cold; cold <= 2 
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import tempfile
 import time
@@ -33,6 +34,7 @@ from swiftfin.pipeline import build
 ROOT = Path(__file__).resolve().parents[1]
 CHANGES = (("caudal_fin.span_mm", 10.0), ("hull.vent_hole_diameter_mm", 1.0), ("spool.flange_thickness_mm", 0.2))
 TARGET_REBUILD = 0.10
+PART_ROW = re.compile(r"^\s*\d+\s+\S+\s+\S+\s+link \d+\b")
 TARGET_COLD = 2.0
 
 
@@ -47,7 +49,7 @@ def timed_build(params_file: Path, out: Path, cache: FamilyCache) -> tuple[float
         print(f"  (stopped by a failed check: {str(exc).splitlines()[0]})")
         cad = float("nan")
     dt = time.perf_counter() - t0
-    part_lines = [ln for ln in lines if " link " in ln]
+    part_lines = [ln for ln in lines if PART_ROW.match(ln)]   # "   33  guide_bay   guide   link 0    0.52 s"
     rebuilt = [ln.split()[1] for ln in part_lines if "(cached)" not in ln]
     which = "all" if len(rebuilt) == len(part_lines) else (", ".join(rebuilt) or "none")
     return dt, cad, f"{len(part_lines)} parts, {len(rebuilt)} rebuilt: {which}"
