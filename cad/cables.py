@@ -57,7 +57,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swiftfin.cad.assembly import Placed, cable_clearance_mm, chain_transform, link_transform
+from swiftfin.cad.assembly import Placed, chain_transform, link_transform
 from swiftfin.cad.guide import arc_points, bend_channel, channel_centre_lines, guide_blocks
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
@@ -266,7 +266,8 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
     for b in guide_blocks(p):
         for joint, side, line in channel_centre_lines(b, _arc_samples, _straight_samples):
             line = _dedupe(line)
-            runs = [(i, k) for i, k in _runs(_inside_block(b, line, g.ptfe_tube_od_mm / 2)) if _length(line[i:k + 1]) >= MIN_TUBE_MM]
+            inside = _inside_block(b, line, g.ptfe_tube_od_mm / 2)
+            runs = [(i, k) for i, k in _runs(inside) if _length(line[i:k + 1]) >= MIN_TUBE_MM]
             for n, (i, k) in enumerate(runs):
                 label = f"tube_{b.label}_{joint}_{SIDE_NAME[side]}{_suffix(n, len(runs))}"
                 out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, line[i:k + 1])),
@@ -353,7 +354,7 @@ def cable_bends(p: Params, pieces=None, tubes=None) -> tuple[CableBend, ...]:
         name = f"cable_{J}_{SIDE_NAME[side]}"
         pts = route.points_mm
         for k, bend in enumerate(route.bends, start=1):
-            if bend.kind in ("exit", "drop", "bay"):
+            if bend.kind in L.GUIDE_BENDS:
                 out.append(CableBend(name, bend.kind, bend.angle_rad, p.guides.min_bend_radius_mm - ride, lim_c,
                                      bend.point_mm))
             else:

@@ -34,7 +34,8 @@ from swiftfin.cad.kernel import Edge, Face, Plane, Solid, Transition, Wire
 
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.layout.fastening import Fastener
-from swiftfin.layout.geometry import cable_routes, half_height_mm, motor_placements, naca_half_width_mm, spool_dims
+from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, cable_routes, half_height_mm, motor_placements,
+                                      naca_half_width_mm, spool_dims)
 from swiftfin.layout.mount_plan import BOSS_MARGIN_MM, motor_screw_fit
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.errors import BuildError, UserError
@@ -157,7 +158,7 @@ def arc_points(ch: Channel, n: int = 33) -> np.ndarray:
     return np.array([c + math.cos(f) * a + math.sin(f) * w for f in np.linspace(0, ch.angle_rad, n)])
 
 
-def channel_centre_lines(b: "GuideBlock", arc=arc_points, straight=None) -> list[tuple[int, int, np.ndarray]]:
+def channel_centre_lines(b: GuideBlock, arc=arc_points, straight=None) -> list[tuple[int, int, np.ndarray]]:
     """Each cable's centre line through the block, ``(joint, side, points)``: straight in, arc, straight out, with a
     lane's drop and turn (two channels sharing the straight between them) joined into one line. ``arc(ch)`` gives
     the points of a channel's arc, t1 to t2; ``straight(a, b)`` those of a straight stretch (default: its ends)."""
@@ -286,7 +287,7 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
         pts = r.points_mm
         seg = [float(np.linalg.norm(np.subtract(pts[k + 1], pts[k]))) for k in range(len(pts) - 1)]
         made = [(bend_channel(pts[k - 1], pts[k], pts[k + 1], R, dia, r.joint + 1, r.side, reach), seg[k - 1], seg[k])
-                for k in (i + 1 for i, b in enumerate(r.bends) if b.kind in ("drop", "bay"))]
+                for k in (i + 1 for i, b in enumerate(r.bends) if b.kind in BAY_GUIDE_BENDS)]
         if len(made) == 2:   # a lane's drop then its turn: the straight between them holds both arcs' tangents
             (a, a_in, a_out), (b, b_in, b_out) = made
             ta, tb = (ch.radius_mm * math.tan(ch.angle_rad / 2) for ch in (a, b))

@@ -56,7 +56,8 @@ from swiftfin.design_rules.findings import Severity
 from swiftfin.design_rules.rules import (MIN_GUIDE_BEND_RAD, MOTOR_CASE_AREA_FACES, RULES, MassProperties,
                                          RuleContext, dry_wall_area_m2, fits_bed, run_rules)
 from swiftfin.layout import loads as _loads
-from swiftfin.layout.geometry import BAY_TO_JOINT_MM, MIN_WEB_LINES, MOTOR_PITCH_GAP_MM
+from swiftfin.layout.geometry import (BAY_AFTER_DROP_RADII, BAY_TO_JOINT_MM, LANE_DROP_PITCHES, MIN_WEB_LINES,
+                                      MOTOR_PITCH_GAP_MM)
 from swiftfin.layout.hull_plan import SPLICE_LENGTH_MM
 from swiftfin.layout.mount_plan import FIXING_SPREAD_FRACTION
 from swiftfin.physics import kinematics as _kin
@@ -576,7 +577,7 @@ class _Group:
         lane = self.flange_r + c("print.clearance_assembly_mm") + od / 2 + (j - 1) * (od + 2 * lw)
         self.lane = np.where(j == 0, 0.0, lane)
         self.drop_s = self.motor_s[0] + F / 2                                  # layout.geometry.drop_station_mm
-        self.bay_end = self.drop_s + 5 * c("guides.min_bend_radius_mm") / 8    # layout.geometry.bay_end_station_mm
+        self.bay_end = self.drop_s + BAY_AFTER_DROP_RADII * c("guides.min_bend_radius_mm")   # bay_end_station_mm
 
     # ---------------------------------------------------------------- cable routes
     @staticmethod
@@ -620,7 +621,7 @@ class _Group:
                     x_in = x_m - self.flange_r - mb / 2
                     sx, sy = self._tangent(x_in, y_lane, x_m, 0.0, self.drum_r, side)
                     pts += [(sx, sy, z_s), (x_in, y_lane, z_s), (x_drop, y_lane, z_s),
-                            (x_bay, y_lane, z_s - j * pitch_t / 3)]             # layout.geometry.lane_drop_mm
+                            (x_bay, y_lane, z_s - j * LANE_DROP_PITCHES * pitch_t)]   # lane_drop_mm
                 for k in range(j):
                     pts.append((-self.js[k], zeros, z_t))
                 last = pts[-1]

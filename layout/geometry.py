@@ -16,8 +16,8 @@ Frames and conventions (used by every module of the project)
 * Motors stand in a row in the head, shafts up (+z), the stack (motor + spool) centred on the body axis;
   the rear-most motor drives joint 1. The cables of the motors ahead of it run aft in lanes beside the
   spools behind, one lane further out per motor ("exit" guides turn them into the lanes).
-* Behind the motor row one "bay" guide turns every cable toward the hinge line of joint 1. Just past the rear
-  spool's flange the lanes first "drop" (each a third of a level pitch lower than the lane inside it, so that the fan of
+* Behind the motor row one "bay" guide turns every cable toward the hinge line of joint 1. At the rear motor's
+  aft face the lanes first "drop" (each a third of a level pitch lower than the lane inside it, so that the fan of
   runs to the hinge line keeps its tubes apart) while joint 1's own cable turns toward its sector.
 * Cables cross the joints ahead of their own *on the hinge line* (y = 0), each at its own height
   (pairs stacked upward from the axis, the last joint lowest), so a joint's
@@ -236,12 +236,18 @@ def motor_placements(p: Params) -> tuple[MotorPlacement, ...]:
     return tuple(out)
 
 
+LANE_DROP_PITCHES = 1 / 3     # each lane's step down at the bay corner, in level pitches (lane_drop_mm)
+BAY_AFTER_DROP_RADII = 5 / 8  # the bay corner behind the drop station, in guide bend radii (bay_end_station_mm)
+GUIDE_BENDS = ("exit", "drop", "bay")   # route bends held by a PTFE guide (the rest cross hinge lines)
+BAY_GUIDE_BENDS = ("drop", "bay")       # those the bay guide holds
+
+
 def bay_end_station_mm(p: Params) -> float:
     """Station of the bay guide's turn toward joint 1: 5/8 of the guide's bend radius behind the rear motor's aft
     face (:func:`drop_station_mm`), so that a lane's drop and turn both fit, as arcs of that radius, on the straight
     between them: 3.3 mm to spare on the default design, 2.4 mm with a 30 mm drum (at half a radius that drum's
     outer lane lacked 0.4 mm and the guide was refused)."""
-    return drop_station_mm(p) + 5 * p.guides.min_bend_radius_mm / 8
+    return drop_station_mm(p) + BAY_AFTER_DROP_RADII * p.guides.min_bend_radius_mm
 
 
 def drop_station_mm(p: Params) -> float:
@@ -264,7 +270,7 @@ def lane_drop_mm(p: Params, joint: int) -> float:
     the runs start apart in height as well and draw apart (closest approach 4.81 mm between centre lines on the
     default design, joint 1's right cable and joint 2's; the assembly check measures it on the tubes). Half a pitch
     would bring the outer lane's channel onto the rear mount's screw heads (the bay guide refuses it)."""
-    return joint * tendon_level_pitch_mm(p) / 3
+    return joint * LANE_DROP_PITCHES * tendon_level_pitch_mm(p)
 
 
 # ----------------------------------------------------------------------------------------------- cable routes

@@ -214,7 +214,7 @@ def cable_forces(p: Params) -> dict[str, list[tuple[np.ndarray, np.ndarray]]]:
         holders = [f"motor_mount_{r.joint + 1}"]
         for b in r.bends:
             holders.append(f"motor_mount_{r.joint + 1}" if b.kind == "exit" else
-                           "motor_mount_1" if b.kind in ("drop", "bay") else None)
+                           "motor_mount_1" if b.kind in L.BAY_GUIDE_BENDS else None)
         for k, who in enumerate(holders):
             if who is None:
                 continue
