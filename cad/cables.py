@@ -2,7 +2,8 @@
 
 Issue 12 item 5: every cable and tube is a swept solid along its route that moves with the joints, so that the
 assembly check (:mod:`swiftfin.cad.assembly`) proves over the joints' range that no cable passes through a part,
-and the rules here prove that every bend meets its minimum radius and every tube is seated against a stop.
+and the rules here prove that every bend meets its minimum radius and every tube is seated against a stop and
+held there.
 
 **Cables** (:func:`cable_pieces`). Each side of each pull-pull cable follows
 :func:`swiftfin.layout.geometry.cable_routes` (spool tangent -> exit guide -> bay guide -> the hinge lines of the
@@ -26,19 +27,27 @@ The wraps on the spools' drums are not modelled (they lie in the spool's own gro
 
 **PTFE tubes** (:func:`tube_runs`). Where the design puts a tube:
 
-* in every **guide channel**, over the stretch of the channel's centre line that lies inside its printed block
-  (the same pieces as the tube masses of :mod:`swiftfin.exports.line_masses`): ``tube_<guide>_<J>_<side>``, link 0;
-* in every **bulkhead hole** of the hull (:func:`swiftfin.cad.hull._cable_holes`: a hole of PTFE tube OD + 2 sliding
-  clearance along the route), from the bulkhead's front face to its back face along the route:
-  ``tube_<hull piece>_<J>_<side>``, on the piece's link.
+* in every **guide channel**, over the stretch of the channel's centre line that lies inside its printed block,
+  from the mouth where the channel opens to the tube's seat (:meth:`swiftfin.cad.guide.GuideBlock.tube_seat`):
+  ``tube_<guide>_<J>_<side>``, link 0;
+* in every **bulkhead hole** of the hull (:func:`swiftfin.cad.hull.bulkhead_passages`: a bore of PTFE tube OD + 2
+  sliding clearance along the route), from the bulkhead's front face to its seat: ``tube_<hull piece>_<J>_<side>``,
+  on the piece's link.
 
 The links' pass-through holes are tube-sized too, but nothing in the design says a tube is in them; here the
 cable runs bare through them (and must clear them).
 
-**Stops.** A tube end is *seated* when printed material of its own link fills at least
-:data:`STOP_FILL_FRACTION` of the ring (tube ID to OD) within ``print.clearance_sliding_mm`` beyond the end
-(:func:`tube_stop_problems`, measured on the built meshes). A tube needs a stop at both ends: the cable drags it
-both ways (pull-pull).
+**Seats and retention.** Every tube's bore ends flat on a printed shoulder
+(:func:`swiftfin.layout.geometry.tube_seat_shoulder_mm`, two line widths) a shoulder short of the part's face, at
+the tube's **last** end (downstream, toward the joints); the cable leaves through the exit hole
+(:func:`swiftfin.layout.geometry.cable_exit_hole_mm`) in it. The **first** end is the mouth the tube is pushed in
+by until it seats. A tube end is *seated* when printed material of its own link fills at least
+:data:`STOP_FILL_FRACTION` of the ring (tube ID to OD) within ``print.clearance_sliding_mm`` beyond the end; the
+mouth must not be (:func:`tube_stop_problems`, measured on the built meshes). The cable's friction drags the tube
+both ways (pull-pull): the shoulder holds one way, the tube's bond along its bore (etched PTFE and epoxy,
+``catalogues/adhesives.toml``) the other; both are checked against the friction at the cable's breaking strength
+(:func:`tube_retentions`). A one-piece printed part cannot have a shoulder at both ends of a bore that a tube has
+to go into, hence the bond.
 
 **Bend radii** (:func:`cable_bends`, :func:`bend_radius_problems`): a tube's bends (its centre line, measured on the
 tube pieces) >= ``guides.min_bend_radius_mm``; a cable's bends >= ``rules.drum_to_cable_min x cable.diameter_mm / 2``
@@ -58,7 +67,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from swiftfin.cad.assembly import Placed, chain_transform, link_transform
-from swiftfin.cad.guide import arc_points, bend_channel, channel_centre_lines, guide_blocks
+from swiftfin.cad.guide import arc_points, bend_channel, channel_centre_lines, guide_blocks, inside_block
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L
@@ -131,7 +140,7 @@ class CableBend:
 @dataclass(frozen=True)
 class CableFinding:
     """A rule the cables or tubes fail (a bend too tight, a tube end without a stop)."""
-    rule: str                    # "cable_bend_radius", "tube_bend_radius", "tube_stop"
+    rule: str                    # "cable_bend_radius", "tube_bend_radius", "tube_stop", "tube_mouth", "tube_retention"
     label: str
     value: float
     limit: float
@@ -225,23 +234,6 @@ def _densify(pts: np.ndarray, step: float) -> np.ndarray:
     return np.asarray(out)
 
 
-def _inside_block(b, pts: np.ndarray, keep_out_pad_mm: float = 0.0) -> np.ndarray:
-    """Which points lie in the guide block's printed body before its channels are cut (box, hull clip,
-    spool keep-outs, notch), as :func:`swiftfin.cad.guide.guide_solid` makes it. ``keep_out_pad_mm`` widens the
-    spool keep-outs (a tube's centre line stops its radius short of a spool's envelope, so its rim does too)."""
-    (x0, x1), (y0, y1), (z0, z1) = b.x_mm, b.y_mm, b.z_mm
-    x, y, z = pts[:, 0], pts[:, 1], pts[:, 2]
-    ok = (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1) & (z >= z0) & (z <= z1)
-    a, h = b.clip_ellipse_mm
-    ok &= (y / a) ** 2 + (z / h) ** 2 <= 1.0
-    for kx, ky, kr in b.keep_out_mm:
-        ok &= np.hypot(x - kx, y - ky) >= kr + keep_out_pad_mm
-    if b.notch_mm is not None:
-        nx, nz = b.notch_mm
-        ok &= ~((x >= nx) & (z < nz))
-    return ok
-
-
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     out, start = [], None
     for i, v in enumerate(mask):
@@ -255,6 +247,15 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return out
 
 
+def _cut_at(pts: np.ndarray, seat: np.ndarray) -> np.ndarray:
+    """The polyline up to ``seat`` (a point on its last straight), ending exactly there."""
+    k = int(np.argmin(np.linalg.norm(pts - seat, axis=1)))
+    d = pts[-1] - pts[-2] if len(pts) > 1 else np.zeros(3)
+    if k > 0 and float((pts[k] - seat) @ d) >= 0:
+        k -= 1
+    return np.vstack([pts[:k + 1], seat[None, :]])
+
+
 def _suffix(k: int, n: int) -> str:
     return "" if n == 1 else "_" + "abcdefghijklmnopqrstuvwxyz"[k]
 
@@ -266,32 +267,30 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
     for b in guide_blocks(p):
         for joint, side, line in channel_centre_lines(b, _arc_samples, _straight_samples):
             line = _dedupe(line)
-            inside = _inside_block(b, line, g.ptfe_tube_od_mm / 2)
+            inside = inside_block(b, line, g.ptfe_tube_od_mm / 2)
             runs = [(i, k) for i, k in _runs(inside) if _length(line[i:k + 1]) >= MIN_TUBE_MM]
+            seat = b.tube_seat(joint, side)
             for n, (i, k) in enumerate(runs):
+                pts = line[i:k + 1]
+                if seat is not None and n == len(runs) - 1:     # the last piece ends on the shoulder
+                    pts = _cut_at(pts, np.asarray(seat, float))
                 label = f"tube_{b.label}_{joint}_{SIDE_NAME[side]}{_suffix(n, len(runs))}"
-                out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, line[i:k + 1])),
+                out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, pts)),
                                    g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
-    from swiftfin.cad.hull import _bulkheads, hull_pieces   # the bulkheads the hull cuts its cable holes in
+    from swiftfin.cad.hull import bulkhead_passages, hull_pieces   # the hull cuts its cable holes from the same
     hw = {h.joint: h for h in all_joint_hardware(p)}
     hole_r = g.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
+    shoulder = L.tube_seat_shoulder_mm(p)
     for pc in hull_pieces(p):
         found: dict[tuple, list] = {}
-        for sf, sb in _bulkheads(p, pc):
-            xf, xb = -sf, -sb
-            rear = pc.rear_joint if sb == pc.s_end_mm and pc.rear_joint is not None else None
-            for route in L.cable_routes(p):
-                pts = np.asarray(route.points_mm, float)
-                for a, c in zip(pts[:-1], pts[1:]):
-                    xm = (xf + xb) / 2
-                    if (a[0] - xm) * (c[0] - xm) >= 0:
-                        continue
-                    d = c - a
-                    q0 = a + (xf - a[0]) / d[0] * d
-                    q1 = a + (xb - a[0]) / d[0] * d
-                    if rear is not None and _in_clevis_cut(p, hw[rear], np.array([q0, q1]), hole_r):
-                        continue     # the hole breaks into the clevis's room for the link: no bore to hold a tube
-                    found.setdefault((route.joint + 1, route.side), []).append((q0, q1))
+        for route, q0, q1 in bulkhead_passages(p, pc):
+            if (pc.rear_joint is not None and abs(q1[0] + pc.s_end_mm) < 1e-6
+                    and _in_clevis_cut(p, hw[pc.rear_joint], np.array([q0, q1]), hole_r)):
+                continue     # the hole breaks into the clevis's room for the link: no bore to hold a tube
+            seat = q1 - shoulder * (q1 - q0) / np.linalg.norm(q1 - q0)
+            if np.linalg.norm(seat - q0) < MIN_TUBE_MM:
+                continue     # a bulkhead too thin for a tube and its shoulder: the cable runs bare through it
+            found.setdefault((route.joint + 1, route.side), []).append((q0, seat))
         for (J, side), items in found.items():
             for n, (q0, q1) in enumerate(items):
                 label = f"tube_{pc.name}_{J}_{SIDE_NAME[side]}{_suffix(n, len(items))}"
@@ -541,39 +540,129 @@ def _end_ring(t: TubeRun, end: int, depth_mm: float):
     return m3d.Manifold(m3d.Mesh(vert_properties=v.astype(np.float32), tri_verts=f.astype(np.uint32))), q
 
 
+def _ring_fill(t: TubeRun, end: int, depth_mm: float, solid: list[Placed]) -> tuple[float, tuple]:
+    """Fraction of the ring beyond the tube's end ``end`` (within ``depth_mm``) that is printed material of the
+    tube's own link, and the end's point."""
+    ring, q = _end_ring(t, end, depth_mm)
+    lo, hi = np.asarray(ring.bounding_box()[:3]), np.asarray(ring.bounding_box()[3:])
+    filled = 0.0
+    for part in solid:
+        if part.link != t.link:
+            continue
+        plo, phi = part.vertices.min(axis=0), part.vertices.max(axis=0)
+        if np.any(plo > hi) or np.any(phi < lo):
+            continue
+        filled += (part.manifold ^ ring).volume()
+    return filled / ring.volume(), tuple(float(c) for c in q)
+
+
 def tube_stop_problems(p: Params, tubes, parts: list[Placed]) -> list[CableFinding]:
-    """Tube ends without a stop: printed material of the tube's link must fill :data:`STOP_FILL_FRACTION` of the
-    ring beyond the end, within ``print.clearance_sliding_mm`` (measured on the parts' meshes)."""
+    """Tubes not seated: the **last** end (its seat) must have a stop, printed material of the tube's link filling
+    :data:`STOP_FILL_FRACTION` of the ring beyond the end within ``print.clearance_sliding_mm``; the **first** end is
+    the mouth the tube goes in by and must be open (less than that fraction). Measured on the parts' meshes."""
     depth = p.print.clearance_sliding_mm
     solid = [q for q in parts if q.family not in ("cable", "tube")]
     out = []
     for t in tubes:
-        for end, word in ((0, "first"), (-1, "last")):
-            ring, q = _end_ring(t, end, depth)
-            lo, hi = np.asarray(ring.bounding_box()[:3]), np.asarray(ring.bounding_box()[3:])
-            filled = 0.0
-            for part in solid:
-                if part.link != t.link:
-                    continue
-                plo, phi = part.vertices.min(axis=0), part.vertices.max(axis=0)
-                if np.any(plo > hi) or np.any(phi < lo):
-                    continue
-                filled += (part.manifold ^ ring).volume()
-            frac = filled / ring.volume()
-            if frac < STOP_FILL_FRACTION:
-                out.append(CableFinding("tube_stop", t.label, frac, STOP_FILL_FRACTION, tuple(float(c) for c in q),
-                                        f"its {word} end has no stop ({100 * frac:.0f} % of the ring within "
-                                        f"{depth:g} mm beyond it is printed material of link {t.link}, needs "
-                                        f"{100 * STOP_FILL_FRACTION:.0f} %)"))
+        frac, q = _ring_fill(t, -1, depth, solid)
+        if frac < STOP_FILL_FRACTION:
+            out.append(CableFinding("tube_stop", t.label, frac, STOP_FILL_FRACTION, q,
+                                    f"its seat (last) end has no stop ({100 * frac:.0f} % of the ring within "
+                                    f"{depth:g} mm beyond it is printed material of link {t.link}, needs "
+                                    f"{100 * STOP_FILL_FRACTION:.0f} %)"))
+        frac, q = _ring_fill(t, 0, depth, solid)
+        if frac >= STOP_FILL_FRACTION:
+            out.append(CableFinding("tube_mouth", t.label, frac, STOP_FILL_FRACTION, q,
+                                    f"its mouth (first) end is closed ({100 * frac:.0f} % of the ring within "
+                                    f"{depth:g} mm beyond it is printed material of link {t.link}): the tube "
+                                    f"cannot go in"))
     return out
 
 
+TUBE_ADHESIVE = "epoxy_etched_ptfe"
+"""The bond that keeps each PTFE tube from walking out of its mouth (``catalogues/adhesives.toml``)."""
+
+
+def tube_turn_rad(t: TubeRun) -> float:
+    """Total angle the tube's centre line turns through [rad] (the sum of its polyline's corner angles)."""
+    d = np.diff(np.asarray(t.points_mm, float), axis=0)
+    d = d[np.linalg.norm(d, axis=1) > 1e-9]
+    d = d / np.linalg.norm(d, axis=1)[:, None]
+    return float(np.sum(np.arccos(np.clip(np.einsum("ij,ij->i", d[:-1], d[1:]), -1.0, 1.0))))
+
+
+@dataclass(frozen=True)
+class TubeRetention:
+    """What holds a tube in place and what pulls on it [N]: the cable's friction on the bore drags it along."""
+    label: str
+    turn_rad: float
+    drag_n: float                # at the cable's breaking strength: T (1 - e^(-mu theta))
+    bond_n: float                # allowable shear x pi OD x length
+    shoulder_n: float            # printed shear allowable x pi bore d x shoulder length
+
+    @property
+    def ok(self) -> bool:
+        return self.drag_n <= min(self.bond_n, self.shoulder_n)
+
+
+def tube_retentions(p: Params, tubes) -> list[TubeRetention]:
+    """Each tube's drag and holds. The cable turning through theta in the tube, with tension T on its tight side,
+    leaves it with T e^(-mu theta) (eq. 24 of the paper, ``guides.mu_ptfe``); the difference is the friction on
+    the bore, which drags the tube along the cable, one way or the other as the joint swings. T is the cable's
+    breaking strength (the tube holds for as long as the cable does). The shoulder takes it one way
+    (the printed ring sheared through, ``catalogues/printed_strength.toml``), the bond the other (the tube's
+    outside over its whole length, ``catalogues/adhesives.toml``)."""
+    from swiftfin.catalogues.adhesives import adhesive
+    from swiftfin.catalogues.printed_strength import printed_strength
+    bond = adhesive(TUBE_ADHESIVE).allowable_shear_mpa
+    shear = printed_strength(p.print.material).shear_allowable_mpa
+    shoulder = L.tube_seat_shoulder_mm(p)
+    out = []
+    for t in tubes:
+        th = tube_turn_rad(t)
+        drag = p.cable.breaking_strength_n * (1.0 - math.exp(-p.guides.mu_ptfe * th))
+        bore = t.od_mm + (p.print.clearance_sliding_mm if t.kind == "guide" else 2 * p.print.clearance_sliding_mm)
+        out.append(TubeRetention(t.label, th, drag, bond * math.pi * t.od_mm * t.length_mm,
+                                 shear * math.pi * bore * shoulder))
+    return out
+
+
+def tube_retention_problems(p: Params, tubes) -> list[CableFinding]:
+    out = []
+    by = {t.label: t for t in tubes}
+    for r in tube_retentions(p, tubes):
+        if r.ok:
+            continue
+        weak, hold = min((("bond", r.bond_n), ("shoulder", r.shoulder_n)), key=lambda kv: kv[1])
+        out.append(CableFinding("tube_retention", r.label, hold, r.drag_n, tuple(by[r.label].points_mm[-1]),
+                                f"the cable's friction ({math.degrees(r.turn_rad):.0f} deg of turn, "
+                                f"{r.drag_n:.1f} N at the cable's breaking strength) exceeds what its {weak} holds "
+                                f"({hold:.1f} N)"))
+    return out
+
+
+def check_tube_seats(p: Params, parts: list[Placed], tubes=None) -> dict:
+    """Every tube seated on its shoulder, its mouth open, and held both ways (:func:`tube_stop_problems`,
+    :func:`tube_retention_problems`). Raises BuildError listing every failure; returns counts and the least
+    margin of the holds over the drag."""
+    tubes = tube_runs(p) if tubes is None else tubes
+    problems = tube_stop_problems(p, tubes, parts) + tube_retention_problems(p, tubes)
+    if problems:
+        raise BuildError(f"{len(problems)} PTFE tube rule(s) failed:\n"
+                         + "\n".join(f"  - {pr}" for pr in problems))
+    rs = tube_retentions(p, tubes)
+    worst = min(rs, key=lambda r: min(r.bond_n, r.shoulder_n) / max(r.drag_n, 1e-12))
+    return {"tubes": len(tubes), "seats": len(tubes), "worst_tube": worst.label, "worst_drag_n": worst.drag_n,
+            "worst_hold_n": min(worst.bond_n, worst.shoulder_n)}
+
+
 def check_cables(p: Params, parts: list[Placed], tubes=None) -> dict:
-    """The cable rules that are not clearances: bend radii and tube stops (the clearances are the assembly check's,
+    """The cable rules that are not clearances: bend radii and tube seats (the clearances are the assembly check's,
     run with :func:`cable_parts` among the parts). Raises BuildError listing every failure; returns counts."""
     tubes = tube_runs(p) if tubes is None else tubes
     bends = cable_bends(p, tubes=tubes)
-    problems = bend_radius_problems(p, bends) + tube_stop_problems(p, tubes, parts)
+    problems = (bend_radius_problems(p, bends) + tube_stop_problems(p, tubes, parts)
+                + tube_retention_problems(p, tubes))
     if problems:
         raise BuildError(f"{len(problems)} cable and tube rule(s) failed:\n"
                          + "\n".join(f"  - {pr}" for pr in problems))

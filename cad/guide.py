@@ -17,6 +17,12 @@ one the post can take; otherwise (the tall bay guide) it sinks in a shallow coun
 longest catalogue length to fill the insert exactly (a deeper one would open into the channels below). The key
 comes from above, before the upper hull half goes on.
 
+**Tube seats.** Each cable's channel is the PTFE tube's bore (OD + sliding clearance) from the face where the
+cable comes in (the mouth: the tube is pushed in there) to its seat near the face where the cable leaves, a printed
+shoulder (:func:`swiftfin.layout.geometry.tube_seat_shoulder_mm`) short of it, whole round the bore even where the
+face is slanted (:attr:`GuideBlock.tube_seats_mm`); the cable's exit hole goes on through the shoulder. The tube is
+bonded in (``cad/cables.py``, retention).
+
 Each bent channel follows the route: straight in along the incoming segment, an arc of radius
 ``guides.min_bend_radius_mm`` through the route's bend angle in the plane of the two segments (tangent to
 both), straight out. Its diameter is the tube's OD plus the sliding clearance. Blocks are clipped to the
@@ -34,8 +40,8 @@ from swiftfin.cad.kernel import Edge, Face, Plane, Solid, Transition, Wire
 
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.layout.fastening import Fastener
-from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, cable_routes, half_height_mm, motor_placements,
-                                      naca_half_width_mm, spool_dims)
+from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, cable_exit_hole_mm, cable_routes, half_height_mm,
+                                      motor_placements, naca_half_width_mm, spool_dims, tube_seat_shoulder_mm)
 from swiftfin.layout.mount_plan import BOSS_MARGIN_MM, motor_screw_fit
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.errors import BuildError, UserError
@@ -90,10 +96,76 @@ class GuideBlock:
     seat_z_mm: float | None = None          # underside at the screws (the posts' tops); None: the block's floor
     notch_mm: tuple[float, float] | None = None   # (x, z): the block is cut away for x >= x, z < z (over a plate)
     print_rotation: tuple[float, float, float] = (0.0, 0.0, 0.0)   # floor on the bed; (180, 0, 0): top on the bed
+    tube_seats_mm: tuple = ()   # ((joint, side, (x, y, z)), ...): where each cable's tube ends on its shoulder
+    exit_hole_diameter_mm: float = 0.0      # the cable's hole on through each shoulder
 
     @property
     def seat_mm(self) -> float:
         return self.z_mm[0] if self.seat_z_mm is None else self.seat_z_mm
+
+    def tube_seat(self, joint: int, side: int) -> tuple | None:
+        """The point on the (joint, side) channel line where its tube ends against the printed shoulder."""
+        return next((q for j, s, q in self.tube_seats_mm if (j, s) == (joint, side)), None)
+
+
+def is_chain_end(b: GuideBlock, ch: Channel) -> bool:
+    """Whether ``ch`` is the last channel of its cable's line through the block (no channel of the same cable
+    goes on from its outgoing straight)."""
+    return not any(o is not ch and (o.joint, o.side) == (ch.joint, ch.side) and np.allclose(ch.p_out, o.t1)
+                   for o in b.channels)
+
+
+def inside_block(b: GuideBlock, pts: np.ndarray, keep_out_pad_mm: float = 0.0) -> np.ndarray:
+    """Which points lie in the guide block's printed body before its channels are cut (box, hull clip,
+    spool keep-outs, notch), as :func:`guide_solid` makes it. ``keep_out_pad_mm`` widens the
+    spool keep-outs (a tube's centre line stops its radius short of a spool's envelope, so its rim does too)."""
+    pts = np.atleast_2d(np.asarray(pts, dtype=float))
+    (x0, x1), (y0, y1), (z0, z1) = b.x_mm, b.y_mm, b.z_mm
+    x, y, z = pts[:, 0], pts[:, 1], pts[:, 2]
+    ok = (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1) & (z >= z0) & (z <= z1)
+    a, h = b.clip_ellipse_mm
+    ok &= (y / a) ** 2 + (z / h) ** 2 <= 1.0
+    for kx, ky, kr in b.keep_out_mm:
+        ok &= np.hypot(x - kx, y - ky) >= kr + keep_out_pad_mm
+    if b.notch_mm is not None:
+        nx, nz = b.notch_mm
+        ok &= ~((x >= nx) & (z < nz))
+    return ok
+
+
+SEAT_STEP_MM = 0.05
+"""Step along a channel's outgoing straight when placing its tube's seat."""
+SEAT_RING_POINTS = 16
+"""Points round the bore's rim at which the shoulder is proved to be printed material."""
+
+
+def _tube_seat(b: GuideBlock, ch: Channel, shoulder_mm: float) -> tuple:
+    """The seat of the tube in ``ch`` (the last channel of its cable's line): the farthest point of the outgoing
+    straight, within its last stretch inside the block, from which the bore's rim stays in printed material for
+    ``shoulder_mm`` further along (the shoulder is whole even where the block's face is slanted). Raises UserError
+    when the straight leaves no room for a tube's end and its shoulder."""
+    start = np.asarray(ch.t2 if ch.angle_rad > 1e-9 else ch.t1, float)
+    d = _unit(np.subtract(ch.p_out, start))
+    n = int(math.ceil(np.linalg.norm(np.subtract(ch.p_out, start)) / SEAT_STEP_MM)) + 1
+    s = np.arange(n) * SEAT_STEP_MM
+    inside = inside_block(b, start + s[:, None] * d)
+    last = int(np.flatnonzero(inside)[-1]) if inside.any() else -1
+    e1 = _unit(np.cross(d, (0.0, 0.0, 1.0)) if abs(d[2]) < 0.9 else np.cross(d, (1.0, 0.0, 0.0)))
+    e2 = np.cross(d, e1)
+    ang = np.linspace(0, 2 * math.pi, SEAT_RING_POINTS, endpoint=False)
+    rim = ch.diameter_mm / 2 * (np.cos(ang)[:, None] * e1 + np.sin(ang)[:, None] * e2)
+    depth = np.linspace(0.0, shoulder_mm, 4)
+    for i in range(last, 0, -1):      # not at the straight's start: the bore keeps a length of straight
+        if not inside[i]:
+            break
+        q = start + s[i] * d
+        ring = (q + depth[:, None, None] * d + rim[None, :, :]).reshape(-1, 3)
+        if inside_block(b, ring).all():
+            return tuple(float(c) for c in q)
+    raise UserError(f"{b.label}: joint {ch.joint}'s {'left' if ch.side > 0 else 'right'} channel leaves the block "
+                    f"with no room for its PTFE tube's seat (a shoulder of {shoulder_mm:.2f} mm, "
+                    f"geometry.tube_seat_shoulder_mm, whole round the bore): use a smaller "
+                    f"guides.ptfe_tube_od_mm or guides.min_bend_radius_mm")
 
 
 def assembly_gap_mm(p: Params) -> float:
@@ -205,6 +277,13 @@ def _check_arc(label: str, ch: Channel, x_lo: float, x_hi: float, seg_in: float,
                         + " (use a smaller guides.min_bend_radius_mm, i.e. a more flexible tube)")
 
 
+def _with_seats(p: Params, b: GuideBlock) -> GuideBlock:
+    shoulder = tube_seat_shoulder_mm(p)
+    return replace(b, exit_hole_diameter_mm=cable_exit_hole_mm(p),
+                   tube_seats_mm=tuple((ch.joint, ch.side, _tube_seat(b, ch, shoulder))
+                                       for ch in b.channels if is_chain_end(b, ch)))
+
+
 def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     """The exit guides (motors 2..N) and the bay guide. Raises UserError if a bend does not fit."""
     g, pr = p.guides, p.print
@@ -266,9 +345,10 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
         arcs_x = np.concatenate([arc_points(ch)[:, 0] for ch in chans if ch.angle_rad > 0])
         x_lo = max(x_lo, min(float(arcs_x.min()) - g.ptfe_tube_od_mm, x_post - post_r - wall))
         x_hi = min(x_hi, max(float(arcs_x.max()) + g.ptfe_tube_od_mm, x_post + post_r + wall))
-        blocks.append(GuideBlock(label, f"motor_mount_{mp.joint + 1}", (x_lo, x_hi), (-y_half, y_half), zr,
-                                 _clip_ellipse(p, -x_lo, -x_hi), tuple(chans), ((x_post, y_post), (x_post, -y_post)),
-                                 g.screw_diameter_mm, screw_hole_diameter_mm(p), tuple((x, y, env_r) for x, y in axes)))
+        blocks.append(_with_seats(p, GuideBlock(
+            label, f"motor_mount_{mp.joint + 1}", (x_lo, x_hi), (-y_half, y_half), zr, _clip_ellipse(p, -x_lo, -x_hi),
+            tuple(chans), ((x_post, y_post), (x_post, -y_post)), g.screw_diameter_mm, screw_hole_diameter_mm(p),
+            tuple((x, y, env_r) for x, y in axes))))
     # ---- bay guide: behind the rear spool, on posts at the aft edge of motor_mount_1's plate; it reaches
     # forward over the plate (notched over the plate and the motor's screw heads) and hangs down aft of the
     # motor's frame as far as the descending channels need.
@@ -323,10 +403,11 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     notch = (notch_x, seat) if zr[0] < seat else None
     if notch is None:
         seat = zr[0]
-    blocks.append(GuideBlock(label, "motor_mount_1", (x_lo, x_hi), (-y_half, y_half), zr,
-                             _clip_ellipse(p, -x_lo, -x_hi), tuple(chans), screws,
-                             g.screw_diameter_mm, screw_hole_diameter_mm(p), ((rear.x_mm, 0.0, env_r),),
-                             seat_z_mm=seat, notch_mm=notch, print_rotation=(180.0, 0.0, 0.0)))
+    blocks.append(_with_seats(p, GuideBlock(label, "motor_mount_1", (x_lo, x_hi), (-y_half, y_half), zr,
+                                            _clip_ellipse(p, -x_lo, -x_hi), tuple(chans), screws,
+                                            g.screw_diameter_mm, screw_hole_diameter_mm(p),
+                                            ((rear.x_mm, 0.0, env_r),), seat_z_mm=seat, notch_mm=notch,
+                                            print_rotation=(180.0, 0.0, 0.0))))
     return tuple(blocks)
 
 
@@ -346,7 +427,19 @@ def guide_solid(b: GuideBlock) -> Solid:
     ell = Face(Wire.make_ellipse(a, h, Plane.YZ.offset(x0 - 1)))
     prism = Solid.extrude(ell, (x1 - x0 + 2, 0, 0))
     body = box.intersect(prism).solids()[0]
-    cutters = [channel_solid(ch) for ch in b.channels]
+    cutters = []
+    for ch in b.channels:
+        seat = b.tube_seat(ch.joint, ch.side) if is_chain_end(b, ch) else None
+        if seat is None:
+            cutters.append(channel_solid(ch))
+            continue
+        # the bore ends flat at the tube's seat; the cable's exit hole goes on through the shoulder
+        d = _unit(np.subtract(ch.p_out, seat))
+        cutters.append(channel_solid(replace(ch, p_out=seat)))
+        start = np.asarray(seat) - 0.1 * d
+        cutters.append(Solid.make_cylinder(b.exit_hole_diameter_mm / 2,
+                                           float(np.linalg.norm(np.subtract(ch.p_out, start))),
+                                           Plane(origin=tuple(start), z_dir=tuple(d))))
     for x, y, r in b.keep_out_mm:
         cutters.append(Solid.make_cylinder(r, z1 - z0 + 2, Plane(origin=(x, y, z0 - 1))))
     if b.notch_mm is not None:

@@ -22,8 +22,10 @@ Interpretations (body frame of :mod:`swiftfin.layout.geometry`, mm):
   carries the clevis: an upper and a lower lug reaching back to the joint axis with the pin bores, two stop
   blocks on the lower lug, and clearance cuts where the link's sector, window column and stop tongue swing.
   The child's front bulkhead carries the link's four bolt holes.
-* **Cable passages**: a hole of PTFE tube OD + 2 sliding clearance, along the route, wherever a route of
-  :func:`swiftfin.layout.geometry.cable_routes` crosses the mid-plane of a bulkhead.
+* **Cable passages** (:func:`bulkhead_passages`): wherever a route of
+  :func:`swiftfin.layout.geometry.cable_routes` crosses the mid-plane of a bulkhead, a bore of PTFE tube OD + 2
+  sliding clearance along the route from the front face to the tube's seat, a printed shoulder short of the back
+  face, and the cable's exit hole through that shoulder (the tube goes in from the front and is bonded).
 * **Mount fixings**: a pad (local inward thickening of the wall) under each of the motor mounts' wall screws
   (:func:`swiftfin.layout.mount_plan.wall_fixings`); the screws' holes and counterbores are cut by the registry.
 * **Caudal fin**: the peduncle ends in a solid plug with a socket for the fin's root tang
@@ -122,22 +124,37 @@ def _cavity_range(p: Params, pc: HullPiece) -> tuple[float, float]:
     return cavity_range_mm(p, pc)
 
 
-def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
-    """Holes where cable routes cross the mid-plane of a bulkhead of this piece."""
-    r = p.guides.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
-    length = p.hull.bulkhead_thickness_mm + 4.0
+def bulkhead_passages(p: Params, pc: HullPiece) -> list[tuple]:
+    """Where the cable routes cross the bulkheads of this piece: ``(route, front, back)``, the route's segment
+    that crosses a bulkhead's mid-plane cut at the bulkhead's front and back faces (body frame, mm)."""
     out = []
     for sf, sb in _bulkheads(p, pc):
-        xm = -(sf + sb) / 2
+        xf, xb = -sf, -sb
+        xm = (xf + xb) / 2
         for route in L.cable_routes(p):
-            pts = np.asarray(route.points_mm)
+            pts = np.asarray(route.points_mm, float)
             for a, b in zip(pts[:-1], pts[1:]):
-                if (a[0] - xm) * (b[0] - xm) < 0:
-                    f = (xm - a[0]) / (b[0] - a[0])
-                    q = a + f * (b - a)
-                    d = (b - a) / np.linalg.norm(b - a)
-                    start = q - d * length / 2 / abs(d[0])
-                    out.append(rod(tuple(start), tuple(d), r, length / abs(d[0])))
+                if (a[0] - xm) * (b[0] - xm) >= 0:
+                    continue
+                d = b - a
+                out.append((route, a + (xf - a[0]) / d[0] * d, a + (xb - a[0]) / d[0] * d))
+    return out
+
+
+def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
+    """The cable passages through the bulkheads: the PTFE tube's bore (OD + 2 sliding clearance) from the front
+    face to the tube's seat, a shoulder (:func:`swiftfin.layout.geometry.tube_seat_shoulder_mm`) short of the back
+    face, and the cable's exit hole (:func:`swiftfin.layout.geometry.cable_exit_hole_mm`) on through it."""
+    r_bore = p.guides.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
+    r_exit = L.cable_exit_hole_mm(p) / 2
+    shoulder = L.tube_seat_shoulder_mm(p)
+    out = []
+    for _, front, back in bulkhead_passages(p, pc):
+        d = (back - front) / np.linalg.norm(back - front)
+        ext = 2.0 / abs(d[0])                   # 2 mm beyond each face, along x
+        seat = back - shoulder * d
+        out.append(rod(tuple(front - ext * d), tuple(d), r_bore, float(np.linalg.norm(seat - front)) + ext))
+        out.append(rod(tuple(seat - 0.1 * d), tuple(d), r_exit, shoulder + 0.1 + ext))
     return out
 
 

@@ -10,8 +10,11 @@ since each has its own cut length). Sources of the lines:
 * cables: per joint and side, the cut length = route at rest (:func:`swiftfin.layout.geometry.cable_routes`) +
   its share of the spool wrap (half of ``spool.wraps`` turns round the drum's cable circle, plus the groove
   margin) + the anchor runs at both ends + ``CABLE_TAIL_MM`` at each end for the crimp or knot and handling;
-* extra lines a part family declares (``PartSpec.meta["bom"]``: a list of dicts with the BomLine fields), e.g.
-  PTFE tube cut lengths, crimp sleeves, a tensioner's bought pieces;
+* crimp sleeves (``catalogues/cable_parts.toml``): one at each end of every cable side;
+* PTFE tube pieces by cut length (:func:`swiftfin.cad.cables.tube_runs`, mouth to seat), the total to buy, and the
+  epoxy that bonds them in (``catalogues/adhesives.toml``);
+* extra lines a part family declares (``PartSpec.meta["bom"]``: a list of dicts with the BomLine fields), e.g. a
+  tensioner's bought pieces;
 * the trim ballast (lead), from the mass model when the build computed one.
 
 Written as ``bom.csv`` (:func:`bom_csv`) and shown in the report.
@@ -106,6 +109,55 @@ def cable_lines(p: Params) -> list[BomLine]:
     return out
 
 
+def crimp_lines(p: Params) -> list[BomLine]:
+    """Two crimp sleeves per cable side: one on the spool's end, one in the tendon sector's anchor."""
+    from swiftfin.catalogues.cable_parts import crimp_sleeve
+    from swiftfin.layout.geometry import cable_routes
+
+    c = crimp_sleeve(p.cable.diameter_mm)
+    routes = cable_routes(p)
+    return [BomLine("Crimp sleeve, single barrel", f"for {c.cable_diameter_mm:g} mm cable: bore {c.bore_mm:g}, "
+                    f"OD {c.outer_diameter_mm:g}, {c.length_mm:g} mm long", 2 * len(routes), "pcs",
+                    "both ends of every cable side (spool anchor, tendon sector anchor)",
+                    "catalogues/cable_parts.toml")]
+
+
+TUBE_CUT_STEP_MM = 0.5
+"""PTFE tube pieces are listed by cut length rounded down to this step [mm] (a knife and a rule cut no finer; a
+piece a little short leaves its mouth a little inside the bore, one a little long would stand proud of it)."""
+
+
+def tube_lines(p: Params) -> list[BomLine]:
+    """The PTFE tube pieces by cut length (each from ``cad.cables.tube_runs``: its centre line from the mouth to
+    its seat on the printed shoulder), the total to buy, and the epoxy that bonds them in (the clearance
+    round each tube filled over its length)."""
+    from swiftfin.cad.cables import TUBE_ADHESIVE, tube_runs
+    from swiftfin.catalogues.adhesives import adhesive
+
+    g, cs = p.guides, p.print.clearance_sliding_mm
+    tubes = tube_runs(p)
+    if not tubes:
+        return []
+    groups: dict[float, list[str]] = {}
+    glue_mm3 = 0.0
+    for t in tubes:
+        cut = math.floor(t.length_mm / TUBE_CUT_STEP_MM + 1e-9) * TUBE_CUT_STEP_MM
+        groups.setdefault(cut, []).append(t.label.removeprefix("tube_"))
+        gap = cs / 2 if t.kind == "guide" else cs        # radial clearance of a guide channel / a bulkhead bore
+        glue_mm3 += math.pi * ((t.od_mm / 2 + gap) ** 2 - (t.od_mm / 2) ** 2) * t.length_mm
+    spec = f"PTFE, {g.ptfe_tube_od_mm:g} x {g.ptfe_tube_id_mm:g} mm, etched (bondable) outside"
+    out = [BomLine("PTFE tube piece", f"{spec}, cut {cut:g} mm", len(labels), "pcs", _where(labels),
+                   "cad.cables.tube_runs (mouth to seat)") for cut, labels in sorted(groups.items())]
+    total = sum(cut * len(labels) for cut, labels in groups.items())
+    out.append(BomLine("PTFE tube, total to buy", spec, total, "mm", "all guides and bulkheads",
+                       "sum of the cut lengths above"))
+    a = adhesive(TUBE_ADHESIVE)
+    out.append(BomLine("Adhesive", a.description, math.ceil(glue_mm3 / 100) / 10, "mL",
+                       "every PTFE tube in its bore, pushed onto its seat (fills the clearance round the tube)",
+                       a.source))
+    return out
+
+
 def bought_part_lines(p: Params, specs) -> list[BomLine]:
     groups: dict[tuple, list] = {}
     placeholders = {c.name for c in p.components if c.name == "fasteners"}
@@ -150,8 +202,8 @@ def ballast_lines(mass_properties: dict | None) -> list[BomLine]:
 
 def bom_lines(p: Params, specs, fasteners, mass_properties: dict | None = None) -> list[BomLine]:
     """Every bought item of the build (see the module docstring)."""
-    return (bought_part_lines(p, specs) + fastener_lines(fasteners) + cable_lines(p) + declared_lines(specs)
-            + ballast_lines(mass_properties))
+    return (bought_part_lines(p, specs) + fastener_lines(fasteners) + cable_lines(p) + crimp_lines(p)
+            + tube_lines(p) + declared_lines(specs) + ballast_lines(mass_properties))
 
 
 def bom_csv(lines) -> str:

@@ -2,10 +2,11 @@
 
 The **cables** are line masses (``cable.linear_density_g_m``) along ``swiftfin.layout.geometry.cable_routes`` plus
 their wraps on the drums (:func:`cable_masses`, one ``cables_link_<j>`` entry per link). The **fasteners** (screws,
-inserts, nuts, pins of the fastener records) are short rods at their places (:func:`fastener_masses`). The **PTFE tube** lines
-every guide channel where it passes through its printed block (:func:`ptfe_tube_masses`): a thin-walled rod of
-``guides.ptfe_tube_od_mm`` / ``ptfe_tube_id_mm`` and ``guides.ptfe_density_kg_m3`` along the channel centre lines
-of ``cad.guide.guide_blocks``, one ``ptfe_tube_link_<j>`` entry per link that holds guides. Pieces are given to
+inserts, nuts, pins of the fastener records) are short rods at their places (:func:`fastener_masses`). The **PTFE tubes**
+(:func:`ptfe_tube_masses`) are thin-walled rods of ``guides.ptfe_tube_od_mm`` / ``ptfe_tube_id_mm`` and
+``guides.ptfe_density_kg_m3`` along the tubes of ``cad.cables.tube_runs`` (the guide channels and the bulkhead
+bores, mouth to seat: the same pieces as the bill of materials), one ``ptfe_tube_link_<j>`` entry per link that
+holds tubes. Pieces are given to
 links by their station (:func:`link_of_station`).
 """
 from __future__ import annotations
@@ -75,42 +76,26 @@ def cable_masses(p: Params) -> list[PartMass]:
     return out
 
 
-def _clip_polyline_x(pts: np.ndarray, x_lo: float, x_hi: float) -> list[tuple[np.ndarray, np.ndarray]]:
-    """Pieces of a polyline with x inside [x_lo, x_hi]."""
-    out = []
-    for a, b in zip(pts[:-1], pts[1:]):
-        if b[0] == a[0]:
-            t0, t1 = (0.0, 1.0) if x_lo <= a[0] <= x_hi else (1.0, 1.0)
-        else:
-            ta, tb = (x_lo - a[0]) / (b[0] - a[0]), (x_hi - a[0]) / (b[0] - a[0])
-            t0, t1 = max(0.0, min(ta, tb)), min(1.0, max(ta, tb))
-        if t1 > t0:
-            out.append((a + t0 * (b - a), a + t1 * (b - a)))
-    return out
-
-
 def ptfe_tube_masses(p: Params) -> list[PartMass]:
-    """The PTFE tube pieces lining the guide channels, as thin rods along each channel's centre line (line, arc,
-    line of :class:`cad.guide.Channel`) clipped to its block's length, one entry per link. A tube is a hollow
-    cylinder: mass rho pi (OD^2 - ID^2) / 4 per metre; its inertia across is taken as a solid rod's of the outer
-    radius scaled to that mass (the radial term is < 1e-3 of the total for a piece longer than 5 OD)."""
-    from swiftfin.cad.guide import channel_centre_lines, guide_blocks
+    """The PTFE tube pieces (:func:`swiftfin.cad.cables.tube_runs`: every guide channel and bulkhead bore, mouth to
+    seat) as thin rods along their centre lines, one entry per link. A tube is a hollow cylinder: mass
+    rho pi (OD^2 - ID^2) / 4 per metre; its inertia across is taken as a solid rod's of the outer radius scaled to
+    that mass (the radial term is < 1e-3 of the total for a piece longer than 5 OD)."""
+    from swiftfin.cad.cables import tube_runs
     g = p.guides
     r_o, r_i = g.ptfe_tube_od_mm / 2, g.ptfe_tube_id_mm / 2
     rho_l = g.ptfe_density_kg_m3 * math.pi * units.length_m(1.0) ** 2 * (r_o**2 - r_i**2)   # kg/m
     pieces: dict[int, list[Inertial]] = {}
     ends: dict[int, list[np.ndarray]] = {}
-    for block in guide_blocks(p):
-        x_lo, x_hi = block.x_mm
-        for _, _, line in channel_centre_lines(block):
-            for a, b in _clip_polyline_x(line, x_lo, x_hi):
-                length_m = units.length_m(float(np.linalg.norm(b - a)))
-                if length_m <= 0:
-                    continue
-                link = link_of_station(p, -0.5 * (a[0] + b[0]))
-                ends.setdefault(link, []).extend([units.length_m(a), units.length_m(b)])
-                pieces.setdefault(link, []).append(
-                    rod_inertial(rho_l * length_m, units.length_m(a), units.length_m(b), units.length_m(r_o)))
+    for t in tube_runs(p):
+        pts = np.asarray(t.points_mm, float)
+        for a, b in zip(pts[:-1], pts[1:]):
+            length_m = units.length_m(float(np.linalg.norm(b - a)))
+            if length_m <= 0:
+                continue
+            ends.setdefault(t.link, []).extend([units.length_m(a), units.length_m(b)])
+            pieces.setdefault(t.link, []).append(
+                rod_inertial(rho_l * length_m, units.length_m(a), units.length_m(b), units.length_m(r_o)))
     out = []
     for link, items in sorted(pieces.items()):
         it = combine(items)
@@ -118,7 +103,7 @@ def ptfe_tube_masses(p: Params) -> list[PartMass]:
         pad = units.length_m(r_o)
         out.append(PartMass(f"ptfe_tube_link_{link}", link, "ptfe", False,
                             f"line mass: guides.ptfe_density_kg_m3 x pi (OD^2 - ID^2) / 4 = {1000 * rho_l:.3g} g/m "
-                            "along the guide channels (cad.guide.guide_blocks), clipped to each block",
+                            "along the tubes of cad.cables.tube_runs (guide channels and bulkheads)",
                             (), 0.0, 0.0, 0.0, 0.0, it, it, None, None,
                             (tuple(pts.min(axis=0) - pad), tuple(pts.max(axis=0) + pad))))
     return out

@@ -49,7 +49,7 @@ from swiftfin.exports.print_model import (  # noqa: F401
     _valid, bridge_flow_factor, find_core, layer_core, memoized, occ_core, part_mass, rotation_matrix, to_manifold,
     voxel_core)
 from swiftfin.exports.line_masses import (  # noqa: F401
-    _clip_polyline_x, cable_masses, fastener_masses, link_of_station, ptfe_tube_masses,
+    cable_masses, fastener_masses, link_of_station, ptfe_tube_masses,
     rod_inertial)
 from swiftfin.exports.water import (  # noqa: F401
     _ballast_part, _fin_outside_volume, _outside_piece, envelope_inertial, envelope_section_mm, envelope_volume_mm3,

@@ -212,6 +212,20 @@ def tendon_level_mm(p: Params, joint: int, side: int) -> float:
     return (n - 1 - joint) * 2 * pitch + side * pitch / 2
 
 
+def tube_seat_shoulder_mm(p: Params) -> float:
+    """Length along the cable of the printed shoulder each PTFE tube is pushed against (its seat): the tube's bore
+    ends flat and the part goes on as the cable's exit hole (:func:`cable_exit_hole_mm`) for
+    :data:`MIN_WEB_LINES` line widths, the least printed web. The other end of the tube is the open mouth it goes
+    in by; what keeps it from walking back out is its bond (``cad/cables.py``, tube retention)."""
+    return MIN_WEB_LINES * p.print.line_width_mm
+
+
+def cable_exit_hole_mm(p: Params) -> float:
+    """Diameter of the hole through a tube's seat: the tube's bore and the sliding clearance (the cable leaves the
+    tube along its axis, so it clears the hole by what it clears the tube's bore)."""
+    return p.guides.ptfe_tube_id_mm + p.print.clearance_sliding_mm
+
+
 def lane_pitch_mm(p: Params) -> float:
     return p.guides.ptfe_tube_od_mm + 2 * p.print.line_width_mm
 

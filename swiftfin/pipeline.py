@@ -242,11 +242,12 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
 
 def check_cables_built(result: BuildResult, placed=None, passed=None, progress=None) -> dict:
     """The cables and PTFE tubes in the assembly (cad/cables.py): each swept along its route, moving with its links,
-    against every built part over the joints' range (the parts among themselves are the rigid check's). Only a
+    against every built part over the joints' range (the parts among themselves are the rigid check's), and every
+    tube seated on its printed shoulder with its mouth open and held both ways (``check_tube_seats``). Only a
     whole build: the cables run through the parts of every family. BuildError names the cable or tube, the part,
-    the gap and the joint angles."""
+    the gap and the joint angles, or the tube and its end."""
     from swiftfin.cad.assembly import check_assembly
-    from swiftfin.cad.cables import cable_parts, tube_runs
+    from swiftfin.cad.cables import cable_parts, check_tube_seats, tube_runs
 
     if not set(FAMILIES) <= set(result.family_times_s):
         return {}
@@ -257,7 +258,11 @@ def check_cables_built(result: BuildResult, placed=None, passed=None, progress=N
     tubes = tube_runs(p)
     meshes = cable_parts(p, None, tubes)
     stats = check_assembly(p, placed + meshes, progress=progress, passed=passed, focus={q.label for q in meshes})
-    return {"cable_pieces": len(meshes) - len(tubes), "tubes": len(tubes), **stats}
+    built = [q.label for q in placed]
+    held = [t for t in tubes if any(lb == t.holder or lb.startswith(t.holder + "_") for lb in built)]
+    seats = check_tube_seats(p, placed, held) if held else {}
+    return {"cable_pieces": len(meshes) - len(tubes), "tubes": len(tubes), **stats,
+            **{k: v for k, v in seats.items() if k.startswith("worst")}}
 
 
 def placed_parts(result: BuildResult) -> list:
@@ -463,6 +468,10 @@ def summary_table(result: BuildResult) -> str:
         lines.append(f"cables and tubes clear: {cs['cable_pieces']} cable pieces and {cs['tubes']} PTFE tubes keep "
                      f"their clearances to every part over the joints' range ({cs['pairs']} pairs, "
                      f"{cs['contact_pairs']} declared contacts, {cs['pairs_remembered']} remembered)")
+    if cs.get("worst_tube"):
+        lines.append(f"PTFE tubes seated: every tube on its printed shoulder with its mouth open, held both ways "
+                     f"(least margin: {cs['worst_tube']}, cable friction {cs['worst_drag_n']:.1f} N at the cable's "
+                     f"breaking strength against {cs['worst_hold_n']:.0f} N)")
     fr = result.fastener_report
     if fr is not None and fr.fasteners:
         w = fr.worst_wall()

@@ -63,3 +63,30 @@ def test_csv_round_trip_keeps_every_field():
     rows = read_bom_csv(bom_csv(lines))
     assert list(rows[0]) == list(FIELDS)
     assert rows[1]["where"] == "all, \"quoted\"" and rows[1]["quantity"] == "1234.6" and rows[0]["quantity"] == "1"
+
+
+def test_every_ptfe_tube_is_a_cut_piece_and_the_total_adds_up(default_params):
+    """Every tube of cad.cables.tube_runs on some line, its cut length its centre line rounded down to the cut step;
+    the total to buy their sum; the epoxy the clearance round them filled, in mL."""
+    from swiftfin.cad.cables import tube_runs
+    from swiftfin.exports.bom import TUBE_CUT_STEP_MM, tube_lines
+    p = default_params
+    tubes = tube_runs(p)
+    lines = tube_lines(p)
+    pieces = [x for x in lines if x.item == "PTFE tube piece"]
+    assert sum(x.quantity for x in pieces) == len(tubes)
+    cuts = sorted(math.floor(t.length_mm / TUBE_CUT_STEP_MM + 1e-9) * TUBE_CUT_STEP_MM for t in tubes)
+    listed = sorted(float(x.spec.rsplit("cut ", 1)[1].split()[0]) for x in pieces for _ in range(int(x.quantity)))
+    assert listed == pytest.approx(cuts)
+    assert all(0 <= t.length_mm - c < TUBE_CUT_STEP_MM for t, c in zip(sorted(tubes, key=lambda t: t.length_mm), cuts))
+    total = next(x for x in lines if x.item == "PTFE tube, total to buy")
+    assert total.unit == "mm" and total.quantity == pytest.approx(sum(cuts))
+    glue = next(x for x in lines if x.item == "Adhesive")
+    assert glue.unit == "mL" and 0 < glue.quantity < 5
+
+
+def test_two_crimp_sleeves_per_cable_side(default_params):
+    from swiftfin.exports.bom import crimp_lines
+    (line,) = crimp_lines(default_params)
+    assert line.quantity == 2 * 2 * default_params.joints.count
+    assert f"for {default_params.cable.diameter_mm:g} mm cable" in line.spec
