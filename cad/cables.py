@@ -277,7 +277,7 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
                 label = f"tube_{b.label}_{joint}_{SIDE_NAME[side]}{_suffix(n, len(runs))}"
                 out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, pts)),
                                    g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
-    from swiftfin.cad.hull import bulkhead_passages, hull_pieces   # the hull cuts its cable holes from the same
+    from swiftfin.cad.hull import bulkhead_passages, hull_pieces, in_clevis_cut   # the hull cuts its holes alike
     hw = {h.joint: h for h in all_joint_hardware(p)}
     hole_r = g.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
     shoulder = L.tube_seat_shoulder_mm(p)
@@ -285,7 +285,7 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
         found: dict[tuple, list] = {}
         for route, q0, q1 in bulkhead_passages(p, pc):
             if (pc.rear_joint is not None and abs(q1[0] + pc.s_end_mm) < 1e-6
-                    and _in_clevis_cut(p, hw[pc.rear_joint], np.array([q0, q1]), hole_r)):
+                    and in_clevis_cut(p, hw[pc.rear_joint], np.array([q0, q1]), hole_r)):
                 continue     # the hole breaks into the clevis's room for the link: no bore to hold a tube
             seat = q1 - shoulder * (q1 - q0) / np.linalg.norm(q1 - q0)
             if np.linalg.norm(seat - q0) < MIN_TUBE_MM:
@@ -297,21 +297,6 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
                 out.append(TubeRun(label, J, side, pc.link, "bulkhead", pc.name, (tuple(q0), tuple(q1)),
                                    g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
     return tuple(out)
-
-
-def _in_clevis_cut(p: Params, h, pts: np.ndarray, hole_r: float) -> bool:
-    """Whether a hole of radius ``hole_r`` round the segment ``pts`` (two points) reaches into the room the parent's
-    rear bulkhead leaves for joint ``h``'s link (the sector and knuckle cylinders of
-    :func:`swiftfin.cad.clevis.clevis_cut`)."""
-    ca, cs = p.print.clearance_assembly_mm, p.print.clearance_sliding_mm
-    cuts = ((h.sector_radius_mm + ca, h.z_sector_lo_mm - cs, h.z_sector_hi_mm + cs),
-            (h.knuckle_radius_mm + ca, h.z_knuckle_lo_mm - cs, h.z_sector_lo_mm))
-    q = pts[0] + np.linspace(0, 1, 11)[:, None] * (pts[1] - pts[0])
-    rho = np.hypot(q[:, 0] - h.x_mm, q[:, 1])
-    for R, z0, z1 in cuts:
-        if np.any((rho < R + hole_r) & (q[:, 2] > z0 - hole_r) & (q[:, 2] < z1 + hole_r)):
-            return True
-    return False
 
 
 # ----------------------------------------------------------------------------------------------- bends

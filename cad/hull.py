@@ -141,6 +141,21 @@ def bulkhead_passages(p: Params, pc: HullPiece) -> list[tuple]:
     return out
 
 
+def in_clevis_cut(p: Params, h, pts: np.ndarray, hole_r: float) -> bool:
+    """Whether a hole of radius ``hole_r`` round the segment ``pts`` (two points) reaches into the room the parent's
+    rear bulkhead leaves for joint ``h``'s link (the sector and knuckle cylinders of
+    :func:`swiftfin.cad.clevis.clevis_cut`)."""
+    ca, cs = p.print.clearance_assembly_mm, p.print.clearance_sliding_mm
+    cuts = ((h.sector_radius_mm + ca, h.z_sector_lo_mm - cs, h.z_sector_hi_mm + cs),
+            (h.knuckle_radius_mm + ca, h.z_knuckle_lo_mm - cs, h.z_sector_lo_mm))
+    q = pts[0] + np.linspace(0, 1, 11)[:, None] * (pts[1] - pts[0])
+    rho = np.hypot(q[:, 0] - h.x_mm, q[:, 1])
+    for R, z0, z1 in cuts:
+        if np.any((rho < R + hole_r) & (q[:, 2] > z0 - hole_r) & (q[:, 2] < z1 + hole_r)):
+            return True
+    return False
+
+
 def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
     """The cable passages through the bulkheads: the PTFE tube's bore (OD + 2 sliding clearance) from the front
     face to the tube's seat, a shoulder (:func:`swiftfin.layout.geometry.tube_seat_shoulder_mm`) short of the back
@@ -148,13 +163,18 @@ def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
     r_bore = p.guides.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
     r_exit = L.cable_exit_hole_mm(p) / 2
     shoulder = L.tube_seat_shoulder_mm(p)
+    hw = {h.joint: h for h in all_joint_hardware(p)}
     out = []
     for _, front, back in bulkhead_passages(p, pc):
         d = (back - front) / np.linalg.norm(back - front)
         ext = 2.0 / abs(d[0])                   # 2 mm beyond each face, along x
         seat = back - shoulder * d
+        if (pc.rear_joint is not None and abs(back[0] + pc.s_end_mm) < 1e-6
+                and in_clevis_cut(p, hw[pc.rear_joint], np.array([front, back]), r_bore)):
+            seat = back + ext * d               # the hole breaks into the clevis's room: no tube, no shoulder
         out.append(rod(tuple(front - ext * d), tuple(d), r_bore, float(np.linalg.norm(seat - front)) + ext))
-        out.append(rod(tuple(seat - 0.1 * d), tuple(d), r_exit, shoulder + 0.1 + ext))
+        if np.linalg.norm(seat - front) < np.linalg.norm(back - front):
+            out.append(rod(tuple(seat - 0.1 * d), tuple(d), r_exit, shoulder + 0.1 + ext))
     return out
 
 

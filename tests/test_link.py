@@ -228,3 +228,17 @@ def test_webs_around_the_pass_through_holes_are_two_perimeters(holed_links, j):
     for z in (hi_end - web + 0.1, hi_end - 0.5 * web, hi_end - 0.1, levels[-1] + hr + 0.5 * web):
         assert inside(h.x_mm + 0.5 * rb, z), (j, z)                       # web under the upper bore
     assert not inside(h.x_mm, hi_end + 0.2)                               # upper bore
+
+
+def test_one_solid_drops_crumbs_but_not_pieces():
+    """A boolean's crumb (a solid under CRUMB_MM3) is not a piece; two real pieces are still refused by name."""
+    import build123d as bd
+    from swiftfin.cad.link import CRUMB_MM3, one_solid
+    from swiftfin.core.errors import BuildError
+    big = bd.Box(10, 10, 10)
+    crumb = bd.Box(0.2, 0.2, 0.2).moved(bd.Location((20, 0, 0)))       # 0.008 mm^3
+    assert crumb.volume < CRUMB_MM3
+    assert one_solid(bd.Compound([big, crumb]), "part").volume == pytest.approx(1000.0)
+    piece = bd.Box(1, 1, 1).moved(bd.Location((20, 0, 0)))
+    with pytest.raises(BuildError, match="part: expected one solid, got 2"):
+        one_solid(bd.Compound([big, piece]), "part")

@@ -276,29 +276,40 @@ def test_printed_volume_matches_prusaslicer_for_every_printed_part(default_param
     assert not bad, bad
 
 
-def test_ptfe_tube_mass_is_tube_section_times_channel_length_in_the_blocks(default_params):
-    """The PTFE pieces: mass = rho pi (OD^2 - ID^2) / 4 x the channel centre-line length inside each guide
-    block, the length measured independently on the B-rep wire (build123d) clipped by a slab of the block's
-    x range."""
+def test_ptfe_tube_mass_is_tube_section_times_the_tubes_length(default_params):
+    """The PTFE pieces (cad.cables.tube_runs: the guide channels and the bulkhead bores, mouth to seat): mass =
+    rho pi (OD^2 - ID^2) / 4 x their length. The guides' share is checked against the channel centre lines
+    measured independently on the B-rep wire (build123d) clipped by a slab of each block's x range: a tube stops a
+    shoulder short of the face it leaves by and starts at the face (or the spool's keep-out) it comes in by, so each
+    one is shorter than its channel's clipped length by at least the shoulder and at most the shoulder plus two tube
+    diameters (a slanted face)."""
     import build123d as bd
+    from swiftfin.cad.cables import tube_runs
     from swiftfin.cad.guide import channel_path, guide_blocks
+    from swiftfin.layout.geometry import tube_seat_shoulder_mm
     p = default_params
     g = p.guides
     rho_l = g.ptfe_density_kg_m3 * math.pi * (g.ptfe_tube_od_mm**2 - g.ptfe_tube_id_mm**2) / 4 * 1e-6   # kg/m
-    length_mm = 0.0
+    runs = tube_runs(p)
+    tubes = mp.ptfe_tube_masses(p)
+    total = sum(t.inertial.mass_kg for t in tubes)
+    assert total == pytest.approx(rho_l * sum(t.length_mm for t in runs) / 1000, rel=1e-9)
+    by_link = {}
+    for t in runs:
+        by_link[t.link] = by_link.get(t.link, 0.0) + rho_l * t.length_mm / 1000
+    assert {t.link: t.inertial.mass_kg for t in tubes} == pytest.approx(by_link, rel=1e-9)
+    shoulder = tube_seat_shoulder_mm(p)
     for b in guide_blocks(p):
         x_lo, x_hi = b.x_mm
         slab = bd.Solid.make_box(x_hi - x_lo, 2000, 2000).translate((x_lo, -1000, -1000))
-        for ch in b.channels:
-            length_mm += sum(e.length for e in channel_path(ch).intersect(slab).edges())
-        for a, c in zip(b.channels[:-1], b.channels[1:]):   # a lane's drop and turn share the straight between them
-            if (a.joint, a.side) == (c.joint, c.side) and np.allclose(a.p_out, c.t1):
-                length_mm -= sum(e.length for e in bd.Edge.make_line(a.t2, c.t1).intersect(slab).edges())
-    tubes = mp.ptfe_tube_masses(p)
-    total = sum(t.inertial.mass_kg for t in tubes)
-    assert length_mm > 100.0
-    assert total == pytest.approx(rho_l * length_mm / 1000, rel=1e-3)
-    assert {t.link for t in tubes} == {0}          # every guide sits in the head
+        for joint, side in {(ch.joint, ch.side) for ch in b.channels}:
+            chans = [ch for ch in b.channels if (ch.joint, ch.side) == (joint, side)]
+            brep = sum(e.length for ch in chans for e in channel_path(ch).intersect(slab).edges())
+            for a, c in zip(chans[:-1], chans[1:]):      # a lane's drop and turn share the straight between them
+                if np.allclose(a.p_out, c.t1):
+                    brep -= sum(e.length for e in bd.Edge.make_line(a.t2, c.t1).intersect(slab).edges())
+            (tube,) = [t for t in runs if t.holder == b.label and (t.joint, t.side) == (joint, side)]
+            assert shoulder - 1e-6 <= brep - tube.length_mm <= shoulder + 2 * g.ptfe_tube_od_mm, (tube.label, brep)
     for t in tubes:
         mp.check_tensor(t.label, t.inertial.inertia, t.inertial.mass_kg)     # raises if not a valid tensor
 
