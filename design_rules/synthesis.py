@@ -21,6 +21,10 @@ range and a changed choice (a catalogue model, a material) as 1. The search:
    time by bisection (``REFINE_STEPS`` halvings), keeping it passing: the result sits on the boundary of the rule
    that binds, to ``range / 2^REFINE_STEPS``.
 4. **What each change buys**: each change undone alone (the others kept), and the rules that then fail.
+5. **The trade-offs** (:func:`pareto_front`): the Pareto front of the passing designs over predicted speed (up),
+   electrical power at the design gait and the bought mass (down), grown from Sobol samples over every varied key
+   by rounds of designs scattered round the front so far; for each front design the rule with the least margin and
+   the rules that fail when its tail beats 5 % faster.
 
 A catalogue model (``motor.model``, ``cable.model``) changes every number its entry gives, as the loader would.
 When the tail-beat frequency changes and the speed is not searched, the speed follows it at constant stride
@@ -42,7 +46,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -63,6 +67,22 @@ EVOLVE_GENERATIONS = 60
 LAYOUT_CHECKS_PER_GENERATION = 16
 LAYOUT_PENALTY_FAILS = 2    # designs failing at most this many rules are put through the layout checks
 LAYOUT_PENALTY = 5000.0     # cost of a design the loader refuses (a shortfall of log(1 + |margin|) = 5)
+FRONT_SAMPLES = 1 << 12
+"""Designs per stage of the Pareto front: Sobol over every varied key, then each round round the front so far."""
+FRONT_ROUNDS = 6
+"""Rounds of designs scattered round the front so far (:func:`pareto_front`)."""
+FRONT_STEP = 0.2
+FRONT_SHRINK = 0.6
+"""First round's step, as a fraction of each key's range, and its shrink per round (0.2 ... 0.016)."""
+FRONT_SEEDS = 32
+"""Front designs, spread along it, that seed each round (each put through the loader's layout checks, ~60 ms)."""
+FRONT_KEPT = 64
+"""Front designs kept in the result, spread from the fastest to the slowest (a front of thousands of near-ties is
+no more use to a designer and costs a layout check each)."""
+FRONT_SHOWN = 10
+SPEED_PROBE = 0.05
+"""A front design's tail beats this much faster to find what stops it (:func:`_speed_limits`)."""
+"""Front points the command prints, spread evenly from the fastest to the slowest."""
 
 #: What ``swiftfin solve`` searches when no ``--vary`` is given: the levers the failing rules of the paper's design
 #: point at (issue 16): the motor, the cable, the pretension, the drum, the moment arm, the gait, the printed
@@ -174,6 +194,36 @@ class Change:
 
 
 @dataclass(frozen=True)
+class FrontPoint:
+    """A design on the Pareto front: its changes from the searched design, its figures and the rule that binds."""
+    changes: tuple                 # ((key, value), ...) of the varied keys it changes
+    speed_m_s: float               # predicted swimming speed (follows the frequency at the design's stride)
+    mass_kg: float                 # the bought mass the search can change: motors + components (battery scaled)
+    power_w: float                 # electrical draw at the design gait (the run-time rule's)
+    binding: str                   # the passing rule with the least margin
+    margin: float                  # its margin
+    limits_speed: tuple = ()       # the rules that fail when its tail beats SPEED_PROBE faster (what stops it)
+
+
+@dataclass(frozen=True)
+class Front:
+    """The Pareto front over speed (up), mass and electrical power (down) of the passing designs sampled."""
+    points: tuple                  # FrontPoint, fastest first
+    sampled: int                   # designs sampled over the varied keys' ranges
+    passing: int                   # of those, passing every kernel-free rule
+    refused: int                   # front candidates the loader's layout checks refused (and replaced)
+    notes: tuple = ()
+    size: int = 0                  # non-dominated designs found (points keeps at most FRONT_KEPT of them)
+
+    def binding_counts(self) -> dict:
+        """{rule id: how many front points it binds}, most first."""
+        out: dict = {}
+        for q in self.points:
+            out[q.binding] = out.get(q.binding, 0) + 1
+        return dict(sorted(out.items(), key=lambda kv: -kv[1]))
+
+
+@dataclass(frozen=True)
 class SolveResult:
     base_failing: tuple            # rule ids the design fails
     passes: bool                   # a design passing every kernel-free rule was found
@@ -184,6 +234,7 @@ class SolveResult:
     evaluated: int                 # designs evaluated
     varies: tuple = field(default=())
     notes: tuple = field(default=())   # the assumptions the changes brought in (speed, motor current, curve)
+    front: Front | None = None         # the Pareto front over speed, mass and power (solve(front_samples=...))
 
     @property
     def keys_changed(self) -> int:
@@ -294,9 +345,20 @@ def _layout_ok(base: Params, varies, row: dict) -> bool:
 
 # ----------------------------------------------------------------------------------------------- search
 def solve(base: Params, varies, samples_per_key: int = SAMPLES_PER_KEY, exhaustive_up_to: int = 2, seed: int = 0,
-          progress=None) -> SolveResult:
+          progress=None, front_samples: int = FRONT_SAMPLES) -> SolveResult:
     """The nearest design to ``base`` that passes every kernel-free rule, changing only the keys of ``varies``
-    (see the module's docstring). ``progress(text)`` is called as the search goes."""
+    (see the module's docstring), and the Pareto front over speed, mass and power of the passing designs among
+    ``front_samples`` sampled over all the varied keys (:func:`pareto_front`; 0: none). ``progress(text)`` is
+    called as the search goes."""
+    res = _nearest(base, varies, samples_per_key, exhaustive_up_to, seed, progress)
+    if front_samples:
+        extra = [{c.key: c.after for c in res.changes}] if res.passes else []
+        res = replace(res, front=pareto_front(base, res.varies, front_samples, seed, extra, progress))
+    return res
+
+
+def _nearest(base: Params, varies, samples_per_key: int, exhaustive_up_to: int, seed: int,
+             progress) -> SolveResult:
     varies = tuple(varies)
     if not varies:
         raise ParamError("--vary", [Problem("--vary", "(none)", "expected at least one key to search")])
@@ -524,3 +586,177 @@ def _result(base: Params, varies, base_vals: dict, base_failing: tuple, row: dic
                      f"curve scaled with the current to {design.motor.holding_torque_nm:.3g} N m")
     return SolveResult(base_failing, not failing, design, tuple(changes), failing, binding, evaluated, tuple(varies),
                        tuple(notes))
+
+
+# ----------------------------------------------------------------------------------------------- Pareto front
+
+
+def pareto_mask(objectives: np.ndarray) -> np.ndarray:
+    """Which rows of ``objectives`` (N, K), every column to be minimised, no other row dominates (another row is no
+    worse in every column and better in one). Rows with a NaN are never on the front. Sorted sweep: a row can only be
+    dominated by rows before it in lexicographic order, and then by one on the front so far."""
+    obj = np.asarray(objectives, float)
+    n = len(obj)
+    keep = np.zeros(n, bool)
+    ok = ~np.isnan(obj).any(axis=1)
+    idx = np.nonzero(ok)[0]
+    order = idx[np.lexsort(obj[idx].T[::-1])]
+    front: list[int] = []
+    for i in order:
+        if front:
+            f = obj[front]
+            if np.any(np.all(f <= obj[i], axis=1) & np.any(f < obj[i], axis=1)):
+                continue
+            if np.any(np.all(f == obj[i], axis=1)):     # a duplicate of a front row: one of them is enough
+                continue
+        front.append(int(i))
+        keep[i] = True
+    return keep
+
+
+def bought_mass_kg(base: Params, cols: dict, n: int) -> np.ndarray:
+    """The mass the searched keys change, per design [kg]: the motors (a catalogue motor's own mass) and every
+    component of the design, the battery scaled with its energy at the design's own specific energy (the same
+    kind of cell, more or fewer of them). The printed parts are left out: the material changes them by its density,
+    the rest of the search not at all; the build's mass properties give the whole."""
+    motors = np.broadcast_to(np.asarray(cols.get("motor.mass_kg", base.motor.mass_kg), float), (n,))
+    energy = np.broadcast_to(np.asarray(cols.get("power.battery_energy_wh", base.power.battery_energy_wh), float),
+                             (n,))
+    total = motors * base.joints.count
+    for c in base.components:
+        if c.name == "battery":
+            total = total + c.mass_kg * energy / base.power.battery_energy_wh
+        else:
+            total = total + c.mass_kg
+    return np.asarray(total, float)
+
+
+def _binding(res, i: int) -> tuple[str, float]:
+    """The passing rule with the least margin of design ``i``."""
+    m = np.where(res.severity[i] == int(Severity.PASS), res.margin[i], np.inf)
+    m = np.where(np.isnan(m), np.inf, m)
+    j = int(np.argmin(m))
+    return RULE_IDS[j], float(m[j])
+
+
+def _perturb(varies, base_vals: dict, seeds: list[dict], m: int, scale: float, rng) -> list[dict]:
+    """``m`` designs near each seed: every continuous key moved by a normal step of ``scale`` x its range (kept in
+    the range), every choice redrawn with probability ``scale``."""
+    out = []
+    for seed_row in seeds:
+        for _ in range(m):
+            row = {}
+            for v in varies:
+                val = seed_row.get(v.key, base_vals[v.key])
+                if v.categorical:
+                    row[v.key] = v.choices[rng.integers(len(v.choices))] if rng.random() < scale else val
+                else:
+                    row[v.key] = float(min(max(val + rng.normal(0.0, scale * (v.hi - v.lo)), v.lo), v.hi))
+            out.append(row)
+    return out
+
+
+def pareto_front(base: Params, varies, samples: int = FRONT_SAMPLES, seed: int = 0, extra_rows=(),
+                 progress=None) -> Front:
+    """The Pareto front over predicted speed (up), bought mass and electrical power (down) of designs passing every
+    kernel-free rule. The passing region of a failing design is often a sliver of the searched box (the paper's fish:
+    none of 16 384 Sobol designs over its 11 keys passes), so the front is grown from the passing designs found:
+    ``samples`` Sobol designs over every varied key plus ``extra_rows`` (the nearest passing design), then
+    :data:`FRONT_ROUNDS` rounds of ``samples`` designs scattered round the front so far, each round closer
+    (a multi-objective evolution with :data:`FRONT_SEEDS` designs spread along the front as its parents). The
+    result keeps :data:`FRONT_KEPT` designs spread along the front, each one the loader's layout checks accept (a
+    refused one is dropped and the front taken again without it)."""
+    say = progress or (lambda text: None)
+    varies = tuple(varies)
+    base_vals = _base_values(base, varies)
+    rng = np.random.default_rng(seed)
+    pool_rows: list[dict] = []
+    pool_obj: list = []
+    pool_bind: list = []
+    sampled = 0
+
+    def add(rows):
+        nonlocal sampled
+        cols = _columns(base, varies, rows)
+        res = evaluate(DesignArrays.from_columns(len(rows), cols, base))
+        sampled += len(rows)
+        ok, _, _ = _scores(res)
+        speed = np.broadcast_to(np.asarray(cols.get("swimming.speed_m_s", base.swimming.speed_m_s), float),
+                                (len(rows),))
+        mass = bought_mass_kg(base, cols, len(rows))
+        for i in np.nonzero(ok & np.isfinite(res.power_w))[0]:
+            pool_rows.append(rows[int(i)])
+            pool_obj.append((-float(speed[i]), float(mass[i]), float(res.power_w[i])))
+            pool_bind.append(_binding(res, int(i)))
+
+    checked: dict[int, bool] = {}
+    refused = 0
+
+    def front_indices(keep: int) -> tuple[np.ndarray, int]:
+        """At most ``keep`` designs of the pool's front, spread evenly from the fastest to the slowest, every one
+        accepted by the loader (a refused one leaves the pool and the front is taken again); and the front's
+        size."""
+        nonlocal refused
+        while True:
+            obj = np.array(pool_obj, float).reshape(-1, 3)
+            idx = np.nonzero(pareto_mask(obj))[0]
+            idx = idx[np.argsort(obj[idx, 0], kind="stable")]
+            if len(idx) > keep:
+                idx = idx[np.unique(np.round(np.linspace(0, len(idx) - 1, keep)).astype(int))]
+            bad = []
+            for i in map(int, idx):
+                if i not in checked:
+                    checked[i] = _layout_ok(base, varies, pool_rows[i])
+                if not checked[i]:
+                    bad.append(i)
+            if not bad:
+                return idx, int(pareto_mask(obj).sum())
+            refused += len(bad)
+            for i in bad:
+                pool_obj[i] = (math.nan, math.nan, math.nan)
+
+    add(_sample(varies, samples, seed * 1000 + 777) + [dict(r) for r in extra_rows])
+    for k in range(FRONT_ROUNDS):
+        front = [pool_rows[int(i)] for i in front_indices(FRONT_SEEDS)[0]]
+        if not front:
+            break
+        add(_perturb(varies, base_vals, front, max(1, samples // len(front)), FRONT_STEP * FRONT_SHRINK ** k, rng))
+    idx, size = front_indices(FRONT_KEPT)
+    say(f"Pareto front: {sampled} designs sampled, {len(pool_rows)} pass the rules, {size} on the front")
+    limits = _speed_limits(base, varies, [pool_rows[int(i)] for i in idx])
+    pts = [FrontPoint(tuple(sorted(_changed(base_vals, pool_rows[int(i)]).items())), -pool_obj[int(i)][0],
+                      pool_obj[int(i)][1], pool_obj[int(i)][2], *pool_bind[int(i)], lim)
+           for i, lim in zip(idx, limits)]
+    pts.sort(key=lambda q: (-q.speed_m_s, q.mass_kg, q.power_w))
+    battery = next((c.mass_kg for c in base.components if c.name == "battery" and c.mass_kg > 0), None)
+    notes = ("mass: the motors and the components only" + (
+             f" (the battery scaled with its energy at the design's {base.power.battery_energy_wh / battery:.0f} "
+             "Wh/kg)" if battery else "") + "; the printed parts are left out (the build's mass properties give them)",
+             "power: the electrical draw at the design gait (the run-time rule's: losses, electronics and the "
+             "power delivered to the joints)")
+    return Front(tuple(pts), sampled, len(pool_rows), refused, notes, size)
+
+
+def _speed_limits(base: Params, varies, rows: list[dict]) -> list[tuple]:
+    """For each design, the rules that fail when its tail beats :data:`SPEED_PROBE` faster (the speed following, as
+    in the search): what stops it from moving up the front."""
+    if not rows:
+        return []
+    f0 = base.swimming.tail_beat_frequency_hz
+    faster = [dict(r, **{"swimming.tail_beat_frequency_hz": r.get("swimming.tail_beat_frequency_hz", f0)
+                         * (1 + SPEED_PROBE)}) for r in rows]
+    if any(v.key == "swimming.speed_m_s" for v in varies):
+        u0 = base.swimming.speed_m_s
+        for r in faster:
+            r["swimming.speed_m_s"] = r.get("swimming.speed_m_s", u0) * (1 + SPEED_PROBE)
+    res = evaluate(DesignArrays.from_columns(len(faster), _columns(base, varies, faster), base))
+    return [tuple(rid for rid, sv in zip(RULE_IDS, res.severity[i]) if sv == int(Severity.FAIL))
+            for i in range(len(faster))]
+
+
+def front_spread(front: Front, k: int = FRONT_SHOWN) -> list:
+    """At most ``k`` front points spread evenly from the fastest to the slowest (all of them when there are fewer)."""
+    pts = list(front.points)
+    if len(pts) <= k:
+        return pts
+    return [pts[int(round(i))] for i in np.linspace(0, len(pts) - 1, k)]

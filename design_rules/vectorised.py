@@ -252,7 +252,9 @@ class RuleArrays:
     ``value``, ``margin``: (N, R), NaN where a rule is not evaluated; ``limit``: (N, R), a band's low end;
     ``limit_hi``: (N, R), a band's high end (NaN for one-sided rules); ``severity``: (N, R) int8 of
     :class:`Severity`; ``error``: (N,) designs the rules cannot evaluate (the per-design run raises);
-    ``fallback``: (N,) designs evaluated by the per-design code (outside the fast path's validity)."""
+    ``fallback``: (N,) designs evaluated by the per-design code (outside the fast path's validity); ``power_w``: (N,)
+    the drive's and electronics' electrical draw at the design gait [W], the figure the run-time rule divides the
+    battery's energy by (NaN where the rules cannot evaluate the design)."""
     rule_ids: tuple
     value: np.ndarray
     limit: np.ndarray
@@ -261,6 +263,7 @@ class RuleArrays:
     severity: np.ndarray
     error: np.ndarray
     fallback: np.ndarray
+    power_w: np.ndarray | None = None   # (N,): electrical draw at the design gait (the run-time rule's), NaN: error
 
     def index(self, rule_id: str) -> int:
         return self.rule_ids.index(rule_id)
@@ -292,6 +295,7 @@ class _Out:
         self.margin = np.full((n, r), np.nan)
         self.severity = np.full((n, r), int(Severity.NOT_EVALUATED), dtype=np.int8)
         self.bad = np.zeros(n, bool)      # outside the fast path: to the per-design code
+        self.power_w = np.full(n, np.nan)
 
     def _col(self, rid):
         return RULE_IDS.index(rid)
@@ -1266,6 +1270,7 @@ def _evaluate_group(cols: dict, n: int, mass: MassPropertyArrays | None, work: d
     out.at_most("heat.dry_compartment", air, limit)
     out.at_most("heat.motor_mount", case, limit)
     draw = total_w + np.maximum(d["mean_pos_power"], 0.0)
+    out.power_w = np.asarray(draw, float)
     minutes = c("power.battery_energy_wh") * 3600.0 * c("power.battery_usable_fraction") / draw / 60.0
     out.at_least("power.run_time", minutes, c("power.run_time_required_min"))
     # floating
@@ -1301,6 +1306,7 @@ def evaluate(designs, mass_properties=None, chunk: int = CHUNK) -> RuleArrays:
     severity = np.full((N, R), int(Severity.NOT_EVALUATED), dtype=np.int8)
     error = np.zeros(N, bool)
     fallback = np.zeros(N, bool)
+    power_w = np.full(N, np.nan)
     counts = arr.columns["joints.count"]
     work: dict = {}
     for n in np.unique(counts):
@@ -1313,6 +1319,7 @@ def evaluate(designs, mass_properties=None, chunk: int = CHUNK) -> RuleArrays:
             value[rows], limit[rows], limit_hi[rows], margin[rows], severity[rows] = \
                 o.value, o.limit, o.limit_hi, o.margin, o.severity
             fallback[rows] = o.bad
+            power_w[rows] = o.power_w
     for i in np.nonzero(fallback)[0]:
         try:
             fs = run_rules(RuleContext(arr.params(int(i)), mass_properties=None if mass is None else mass.item(int(i))))
@@ -1321,6 +1328,7 @@ def evaluate(designs, mass_properties=None, chunk: int = CHUNK) -> RuleArrays:
             value[i] = limit[i] = limit_hi[i] = margin[i] = np.nan
             severity[i] = int(Severity.NOT_EVALUATED)
             continue
+        power_w[i] = _draw_of_run_time(arr.params(int(i)), fs)
         for r, f in enumerate(fs):
             value[i, r] = np.nan if f.value is None else f.value
             if isinstance(f.limit, tuple):
@@ -1329,7 +1337,16 @@ def evaluate(designs, mass_properties=None, chunk: int = CHUNK) -> RuleArrays:
                 limit[i, r], limit_hi[i, r] = (np.nan if f.limit is None else f.limit), np.nan
             margin[i, r] = np.nan if f.margin is None else f.margin
             severity[i, r] = int(f.severity)
-    return RuleArrays(RULE_IDS, value, limit, limit_hi, margin, severity, error, fallback)
+    power_w[error] = np.nan
+    return RuleArrays(RULE_IDS, value, limit, limit_hi, margin, severity, error, fallback, power_w)
+
+
+def _draw_of_run_time(p: Params, findings) -> float:
+    """The electrical draw [W] behind the per-design run-time finding: the usable energy over the minutes."""
+    f = next(f for f in findings if f.rule_id == "power.run_time")
+    if f.value is None or not f.value > 0:
+        return math.nan
+    return p.power.battery_energy_wh * 3600.0 * p.power.battery_usable_fraction / (f.value * 60.0)
 
 
 # ----------------------------------------------------------------------------------------------- seeded designs

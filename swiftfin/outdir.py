@@ -239,12 +239,17 @@ def check_output_file(path, option: str = "--out") -> None:
 def write_text_atomic(path, text: str, new_only: bool = False) -> None:
     """Write ``text`` to ``path`` whole or not at all: a temporary file beside it (its folders made as needed),
     renamed into place. ``new_only``: never over a file that exists (UserError, the file untouched)."""
+    write_bytes_atomic(path, text.encode("utf-8"), new_only)
+
+
+def write_bytes_atomic(path, data: bytes, new_only: bool = False) -> None:
+    """:func:`write_text_atomic` for bytes."""
     path = Path(path)
     path.absolute().parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", dir=path.absolute().parent)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
         if new_only and path.exists():
             raise UserError(f"{path}: appeared while it was being written; not overwritten")
         os.replace(tmp, path)

@@ -12,7 +12,8 @@ import pytest
 from swiftfin.core.params import ParamError, params_from_dict, to_dict
 from swiftfin.core.schema import Params
 from swiftfin.design_rules import RuleContext, Severity, run_rules
-from swiftfin.design_rules.synthesis import DEFAULT_VARY, parse_vary, solve
+from swiftfin.design_rules.synthesis import (DEFAULT_VARY, SPEED_PROBE, _params_of, bought_mass_kg, pareto_mask,
+                                              parse_vary, solve)
 from swiftfin.design_rules.vectorised import evaluate, seeded_designs
 
 #: the default levers with the frequency held to 0.5 Hz and up: no design passes there
@@ -84,6 +85,71 @@ def test_the_paper_fish_passes_with_few_changes_each_earning_its_place(paper_sol
     assert r.binding and abs(r.binding[0][1]) < 1e-3
 
 
+def test_pareto_mask_is_the_brute_force_front():
+    """The sorted sweep against the definition (no other row no worse everywhere and better somewhere), on random
+    rows with ties, duplicates and NaN rows (never on the front)."""
+    rng = np.random.default_rng(3)
+    for n, k in ((1, 3), (60, 2), (300, 3), (200, 4)):
+        obj = rng.integers(0, 6, size=(n, k)).astype(float)
+        obj[rng.random(n) < 0.1] = np.nan
+        mask = pareto_mask(obj)
+        for i in range(n):
+            if np.isnan(obj[i]).any():
+                assert not mask[i]
+                continue
+            others = np.delete(obj, i, axis=0)
+            others = others[~np.isnan(others).any(axis=1)]
+            dominated = np.any(np.all(others <= obj[i], axis=1) & np.any(others < obj[i], axis=1))
+            assert mask[i] == (not dominated and not any(mask[j] and np.array_equal(obj[j], obj[i])
+                                                         for j in range(i))), i
+        # every front row kept once: duplicates of a front row are not on it twice
+        kept = {tuple(r) for r in obj[mask]}
+        assert len(kept) == int(mask.sum())
+
+
+def test_the_front_passes_the_per_design_rules_and_trades_speed_for_power(paper_solved):
+    """Every front design of the paper fish, rebuilt through the loader, passes the per-design rules (run_rules:
+    code apart from the vectorised rules the front is found with); its power is the per-design run-time rule's draw,
+    its mass the motors and components' (battery scaled); no front design dominates another; faster costs power;
+    and 5 % faster, the rules it names fail in the per-design run too."""
+    r = paper_solved
+    f = r.front
+    assert f is not None and len(f.points) >= 10 and f.passing >= len(f.points)
+    varies = r.varies
+    base = Params()
+    obj = np.array([(-q.speed_m_s, q.mass_kg, q.power_w) for q in f.points])
+    assert pareto_mask(obj).all()
+    for q in list(f.points[:3]) + list(f.points[-3:]):
+        p = _params_of(base, varies, dict(q.changes))
+        fs = {x.rule_id: x for x in run_rules(RuleContext(p))}
+        assert not [k for k, x in fs.items() if x.severity == Severity.FAIL], q
+        rt = fs["power.run_time"]
+        draw = p.power.battery_energy_wh * 3600 * p.power.battery_usable_fraction / (rt.value * 60)
+        assert q.power_w == pytest.approx(draw, rel=1e-6)
+        assert q.speed_m_s == pytest.approx(p.swimming.speed_m_s, rel=1e-12)
+        battery = next(c.mass_kg for c in base.components if c.name == "battery")
+        others = sum(c.mass_kg for c in base.components if c.name != "battery")
+        assert q.mass_kg == pytest.approx(p.joints.count * p.motor.mass_kg + others
+                                          + battery * p.power.battery_energy_wh / base.power.battery_energy_wh)
+        assert fs[q.binding].severity == Severity.PASS and fs[q.binding].margin == pytest.approx(q.margin, abs=1e-6)
+        if q.limits_speed:
+            faster = dict(q.changes, **{"swimming.tail_beat_frequency_hz":
+                                        p.swimming.tail_beat_frequency_hz * (1 + SPEED_PROBE)})
+            assert set(q.limits_speed) <= _failing(_params_of(base, varies, faster))
+    speeds = [q.speed_m_s for q in f.points]
+    assert speeds == sorted(speeds, reverse=True)
+    assert f.points[0].power_w > f.points[-1].power_w      # the fastest is not the cheapest
+    assert f.points[0].speed_m_s > r.design.swimming.speed_m_s     # the front reaches beyond the nearest design
+
+
+def test_bought_mass_counts_the_motors_and_scales_the_battery():
+    base = Params()
+    cols = {"motor.mass_kg": np.array([0.28, 0.5]), "power.battery_energy_wh": np.array([4.5, 9.0])}
+    m = bought_mass_kg(base, cols, 2)
+    battery = next(c.mass_kg for c in base.components if c.name == "battery")
+    assert m[1] - m[0] == pytest.approx(4 * (0.5 - 0.28) + battery)
+
+
 def test_narrower_ranges_say_what_still_fails():
     """With the frequency held to 0.5 Hz and up no design passes: the result says so, its rules fail in the
     per-design run too, and it fails fewer rules than the design."""
@@ -126,6 +192,10 @@ def test_the_command_writes_only_a_passing_design_and_never_over_a_file(tmp_path
     import json
     out = json.loads((tmp_path / "s.json").read_text())
     assert out["passes"] and out["changes"][0]["key"] == "cable.pretension_n"
+    front = out["front"]
+    assert front["points"] and all({"speed_m_s", "mass_kg", "power_w", "binding", "changes"} <= set(q)
+                                   for q in front["points"])
+    assert "Pareto front over speed" in r.stdout
     written = (tmp_path / "s.toml").read_bytes()
     check = subprocess.run([sys.executable, "-m", "swiftfin", "check", "s.toml"], capture_output=True, text=True,
                            cwd=tmp_path)
@@ -146,9 +216,25 @@ def test_the_command_exits_1_and_writes_nothing_when_none_passes(tmp_path):
     assert not (tmp_path / "s.toml").exists()
 
 
+def test_the_command_draws_the_front(tmp_path, one_rule_short):
+    from swiftfin.core.params import dump_toml
+    (tmp_path / "d.toml").write_text(dump_toml(one_rule_short), encoding="utf-8")
+    vary = f"cable.pretension_n=1:{0.9 * one_rule_short.cable.breaking_strength_n:.1f}"
+    r = _cli("d.toml", "--vary", vary, "--vary", "swimming.tail_beat_frequency_hz=0.2:3", "--front-samples", "256",
+             "--front-plot", "plots/front.png", "--out", "s.toml", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "plots" / "front.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    r = _cli("d.toml", "--vary", vary, "--front-samples", "0", "--out", "t.toml", cwd=tmp_path)
+    assert r.returncode == 0 and "Pareto front" not in r.stdout
+
+
 def test_the_command_refuses_bad_input_with_exit_2(tmp_path):
     r = _cli("--vary", "cable.pretension_n=-5:100", "--out", "s.toml", cwd=tmp_path)
     assert r.returncode == 2 and "cable.pretension_n" in r.stderr and "Traceback" not in r.stderr
     r = _cli("--samples", "3", cwd=tmp_path)
     assert r.returncode == 2 and "--samples" in r.stderr
+    r = _cli("--front-samples", "10", cwd=tmp_path)
+    assert r.returncode == 2 and "--front-samples 10" in r.stderr and "Traceback" not in r.stderr
+    r = _cli("--front-samples", "0", "--front-plot", "f.png", cwd=tmp_path)
+    assert r.returncode == 2 and "--front-plot" in r.stderr
     assert not list(tmp_path.iterdir())

@@ -255,3 +255,23 @@ def test_results_read_as_findings_do():
     assert row["float.upright"] == (None, None, None, Severity.NOT_EVALUATED)
     assert res.verdict().tolist() == [int(Severity.FAIL)]
     assert math.isfinite(SLOPE_MAX)
+
+
+def test_the_power_figure_is_the_run_time_rules_draw():
+    """``RuleArrays.power_w``, the draw the Pareto front ranks designs by, is the per-design run-time rule's:
+    the usable energy over its minutes, on the fast path and on the per-design fallback alike."""
+    steep = _design(layout=False, body={"length_mm": 300.0}, swimming={"tail_amplitude_m": 0.3})
+    designs = [Params(), steep] + list(_seeded(N_QUICK, 20261124))[:40]
+    res = evaluate(designs)
+    assert res.fallback[1]
+    for i, p in enumerate(designs):
+        if res.error[i]:
+            assert np.isnan(res.power_w[i])
+            continue
+        try:
+            fs = run_rules(RuleContext(p))
+        except BuildError:
+            continue
+        minutes = next(f.value for f in fs if f.rule_id == "power.run_time")
+        draw = p.power.battery_energy_wh * 3600 * p.power.battery_usable_fraction / (minutes * 60)
+        assert res.power_w[i] == pytest.approx(draw, rel=1e-6), i

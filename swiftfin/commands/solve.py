@@ -1,5 +1,6 @@
 """``swiftfin solve [PARAMS] [--vary KEY=RANGE ...] [--out FILE]``: the nearest design that passes every kernel-free
-rule, changing only the keys searched (:mod:`swiftfin.design_rules.synthesis`).
+rule, changing only the keys searched (:mod:`swiftfin.design_rules.synthesis`), and the Pareto front over speed, mass
+and electrical power of the passing designs, with the rule that binds along it (``--front-plot`` draws it).
 
 Exit codes: 0 a passing design was found and written to ``--out``; 1 none passes within the ranges (nothing is
 written; the closest design found and the rules it still fails are printed); 2 bad input (the parameter file, a
@@ -33,6 +34,11 @@ def configure(ap) -> None:
     ap.add_argument("--json", metavar="FILE", help="also write the result as JSON")
     ap.add_argument("--seed", type=int, default=0, help="seed of the samples and the evolution (default 0)")
     ap.add_argument("--samples", type=int, default=256, help="samples per searched key and stage (default 256)")
+    ap.add_argument("--front-samples", type=int, default=4096, metavar="N",
+                    help="designs per stage of the Pareto front over speed, mass and power (default 4096; 0: no "
+                         "front)")
+    ap.add_argument("--front-plot", metavar="FILE.png", help="also draw the Pareto front (speed against power, "
+                    "coloured by mass, marked by the rule that binds)")
     ap.set_defaults(func=run)
 
 
@@ -58,8 +64,14 @@ def run(args) -> int:
     check_output_file(out)
     if args.json:
         check_output_file(args.json, "--json")
+    if args.front_samples != 0 and not 64 <= args.front_samples <= 1 << 18:
+        raise UserError(f"--front-samples {args.front_samples}: expected 0 (no front) or 64 to 262144 designs")
+    if args.front_plot:
+        if not args.front_samples:
+            raise UserError("--front-plot: there is no front to draw with --front-samples 0")
+        check_output_file(args.front_plot, "--front-plot")
     t0 = time.perf_counter()
-    res = solve(base, varies, samples_per_key=args.samples, seed=args.seed,
+    res = solve(base, varies, samples_per_key=args.samples, seed=args.seed, front_samples=args.front_samples,
                 progress=lambda text: print(f"  [{time.perf_counter() - t0:5.1f} s] {text}", file=sys.stderr))
     wall = time.perf_counter() - t0
     name = args.params_file or "the default design"
@@ -75,6 +87,11 @@ def run(args) -> int:
         print("binding: " + ", ".join(f"{r} {_margin(m)}" for r, m in res.binding))
     for n in res.notes:
         print(f"note: {n}")
+    if res.front is not None:
+        _print_front(res.front)
+        if args.front_plot:
+            _plot_front(res.front, args.front_plot)
+            print(f"drew the front: {args.front_plot}")
     if args.json:
         write_text_atomic(args.json, json.dumps(_as_json(res, varies, wall), indent=2) + "\n")
     if not res.passes:
@@ -91,6 +108,69 @@ def run(args) -> int:
     return 0
 
 
+def _changes_text(changes) -> str:
+    return ", ".join(f"{k.split('.', 1)[1]}={_fmt(v)}" for k, v in changes) or "(the design itself)"
+
+
+def _print_front(front) -> None:
+    from swiftfin.design_rules.synthesis import front_spread
+    print()
+    if not front.points:
+        print(f"Pareto front: none of {front.sampled} designs sampled passes every rule")
+        return
+    print(f"Pareto front over speed (up), mass and electrical power (down): {front.size} designs, of "
+          f"{front.passing} passing among {front.sampled} sampled ({front.refused} refused by the layout checks); "
+          f"{len(front.points)} kept, spread from the fastest to the slowest")
+    print(f"{'speed m/s':>9} {'mass kg':>8} {'power W':>8}  {'binds (least margin)':28} {'stops it 5 % faster':28} "
+          f"changes")
+    for q in front_spread(front):
+        print(f"{q.speed_m_s:9.3f} {q.mass_kg:8.3f} {q.power_w:8.2f}  {q.binding:28} "
+              f"{', '.join(q.limits_speed) or '-':28} {_changes_text(q.changes)}")
+    counts = {}
+    for q in front.points:
+        for r in q.limits_speed or ("(none: power or mass, not a rule)",):
+            counts[r] = counts.get(r, 0) + 1
+    print("binding along the front (least margin): " + ", ".join(f"{r} {n}" for r, n in front.binding_counts().items()))
+    print("what stops each front design from beating 5 % faster: "
+          + ", ".join(f"{r} {n}" for r, n in sorted(counts.items(), key=lambda kv: -kv[1])))
+    for n in front.notes:
+        print(f"note: {n}")
+
+
+def _plot_front(front, path) -> None:
+    """Speed against power, coloured by mass, one marker per binding rule."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from swiftfin.outdir import write_bytes_atomic
+
+    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=120)
+    markers = "osD^v<>pXh*"
+    rules = list(front.binding_counts())
+    mass = [q.mass_kg for q in front.points]
+    lo, hi = (min(mass), max(mass)) if mass else (0.0, 1.0)
+    sc = None
+    for k, r in enumerate(rules):
+        pts = [q for q in front.points if q.binding == r]
+        sc = ax.scatter([q.power_w for q in pts], [q.speed_m_s for q in pts], c=[q.mass_kg for q in pts],
+                        vmin=lo, vmax=hi if hi > lo else lo + 1e-6, cmap="viridis", marker=markers[k % len(markers)],
+                        label=f"{r} ({len(pts)})", edgecolors="k", linewidths=0.3)
+    if sc is not None:
+        fig.colorbar(sc, ax=ax, label="mass of motors and components [kg]")
+        ax.legend(title="binds (least margin)", fontsize=7, title_fontsize=7, loc="lower right")
+    ax.set_xlabel("electrical power at the design gait [W]")
+    ax.set_ylabel("predicted speed [m/s]")
+    ax.set_title(f"Pareto front: {len(front.points)} of its {front.size} designs, of {front.passing} passing",
+                 fontsize=9)
+    ax.grid(alpha=0.3)
+    import io
+    buf = io.BytesIO()
+    fig.tight_layout()
+    fig.savefig(buf, format="png")
+    plt.close(fig)
+    write_bytes_atomic(path, buf.getvalue())
+
+
 def _as_json(res, varies, wall: float) -> dict:
     def num(v):
         return v if isinstance(v, str) else float(v)
@@ -98,4 +178,10 @@ def _as_json(res, varies, wall: float) -> dict:
             "changes": [{"key": c.key, "from": num(c.before), "to": num(c.after), "buys": list(c.buys)}
                         for c in res.changes],
             "binding": [{"rule": r, "margin": m} for r, m in res.binding], "notes": list(res.notes),
-            "searched": [v.text() for v in varies], "designs_evaluated": res.evaluated, "wall_s": wall}
+            "searched": [v.text() for v in varies], "designs_evaluated": res.evaluated, "wall_s": wall,
+            "front": None if res.front is None else {
+                "size": res.front.size, "sampled": res.front.sampled, "passing": res.front.passing, "refused": res.front.refused,
+                "notes": list(res.front.notes),
+                "points": [{"speed_m_s": q.speed_m_s, "mass_kg": q.mass_kg, "power_w": q.power_w,
+                            "binding": q.binding, "margin": q.margin, "limits_speed": list(q.limits_speed),
+                            "changes": {k: num(v) for k, v in q.changes}} for q in res.front.points]}}
