@@ -35,7 +35,7 @@ from swiftfin.report.sections import (BOM_NAME, FIT_REPORT_NAME, MASS_PROPERTIES
                                       audit_section, read_steps, steps_section,
                                       bom_section, read_bom,
                                       fit_section, mass_section, overview_section, parts_section, plot_section,
-                                      rules_section, sorted_findings)
+                                      rules_section, solve_section, sorted_findings)
 
 __all__ = ["ASSEMBLY_VIEW_FACE_FRACTION", "FIT_REPORT_NAME", "MASS_PROPERTIES_NAME", "REPORT_NAME", "SECTIONS",
            "Progress", "ReportPart", "ReportTiming", "as_report_part", "build_page", "render_pictures",
@@ -47,7 +47,7 @@ SECTIONS = (("overview", "Overview"), ("assembly", "Assembly"), ("steps", "Assem
             ("bom", "Bill of materials"),
             ("rules", "Design rules"),
             ("mass", "Mass"), ("robot", "Robot"), ("efficiency", "Efficiency"), ("tailbeat", "Tail-beat"), ("wave", "Body wave"),
-            ("audit", "Paper audit"), ("fit", "Fit"))
+            ("audit", "Paper audit"), ("fit", "Fit"), ("solve", "Trade-offs"))
 
 
 # ----------------------------------------------------------------------------------------------- inputs
@@ -211,9 +211,10 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
                audit, progress: Callable[[str], None] | None = None, params_name: str = "swiftfin.toml",
                mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None,
                jobs: int | None = 1, robot_dir: Path | None = None, swim: list[dict] | None = None,
-               bom: list[dict] | None = None, steps: dict | None = None) -> str:
+               bom: list[dict] | None = None, steps: dict | None = None, solve: dict | None = None,
+               solve_name: str = "") -> str:
     """The report page as a string (see :func:`write_report`). ``bom``: the rows of the build's ``bom.csv``;
-    ``steps``: the build's ``assembly_steps.json``."""
+    ``steps``: the build's ``assembly_steps.json``; ``solve``: a ``swiftfin solve --json`` result."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
     t_start = time.perf_counter()
@@ -260,6 +261,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
         "wave": plot_section(wave, "body wave envelope"),
         "audit": audit_section(audit),
         "fit": fit_section(Path(fit_dir) if fit_dir is not None else None),
+        "solve": solve_section(solve, _solve_plot(solve), solve_name),
     }
     titles = dict(SECTIONS)
     titles["efficiency"] = "Transmission efficiency (paper Fig. 8, recomputed)"
@@ -283,11 +285,18 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
             f"</footer></body></html>\n")
 
 
+def _solve_plot(solve: dict | None):
+    if not solve or not (solve.get("front") or {}).get("points"):
+        return None
+    from swiftfin.report.plots import pareto_plot
+    return pareto_plot(solve["front"])
+
+
 def write_report(params: Params, out_dir, parts=None, mass_properties: dict | None = None, fit_dir=None, *,
                  findings, audit, progress: Callable[[str], None] | None = None,
                  params_name: str = "swiftfin.toml", mass_note: str = "",
                  timing: ReportTiming | None = None, memo=None, plots=None, jobs: int | None = 1,
-                 swim: list[dict] | None = None) -> Path:
+                 swim: list[dict] | None = None, solve: dict | None = None, solve_name: str = "") -> Path:
     """Write ``out_dir/report.html`` and return its path.
 
     ``parts``: ReportParts or ``swiftfin.pipeline.BuiltPart``s (None: no pictures, the page says so);
@@ -297,7 +306,8 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     (efficiency, tail-beat, wave) plots of :func:`standard_plots` when the caller has them (its cache). The robot
     section reads ``out_dir/robot/`` when the folder holds a build's simulator files, the bill of materials
     ``out_dir/bom.csv`` when the build wrote one; ``swim``: the swimming
-    results of ``swiftfin.pipeline.swim_results`` to show there.
+    results of ``swiftfin.pipeline.swim_results`` to show there; ``solve``: a ``swiftfin solve --json`` result
+    (``solve_name`` its file) for the trade-offs section.
     The file is written to a temporary name and renamed, so a failed report never leaves half a page.
     """
     out = Path(out_dir)
@@ -307,7 +317,8 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     steps = read_steps(out / STEPS_NAME) if (out / STEPS_NAME).is_file() else None
     page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
                       params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots,
-                      jobs=jobs, robot_dir=robot_dir, swim=swim, bom=bom, steps=steps)
+                      jobs=jobs, robot_dir=robot_dir, swim=swim, bom=bom, steps=steps, solve=solve,
+                      solve_name=solve_name)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")

@@ -351,3 +351,38 @@ def wave_plot(p: Params, n_phases: int = 8) -> Plot:
                f"wavenumber k = {wave.wavenumber_rad_m:.2f} rad/m. Envelope at the joints: " +
                ", ".join(f"{1000 * a:.1f} mm" for a in amp_j) + ".")
     return Plot(_png(fig), caption, {"envelope_at_joints_m": amp_j, "c2_per_m": wave.c2_per_m})
+
+
+# ----------------------------------------------------------------------------------------------- trade-offs
+PARETO_MARKERS = "osD^v<>pXh*"
+
+
+def pareto_plot(front: dict) -> Plot:
+    """The Pareto front of ``swiftfin solve`` (its JSON's ``front``): predicted speed against electrical power,
+    coloured by mass, one marker per rule of least margin."""
+    pts = list(front.get("points") or [])
+    fig = _figure(7.2, 4.3)
+    ax = fig.add_subplot(1, 1, 1)
+    _style(ax)
+    counts: dict = {}
+    for q in pts:
+        counts[q["binding"]] = counts.get(q["binding"], 0) + 1
+    rules = sorted(counts, key=lambda r: -counts[r])
+    mass = [q["mass_kg"] for q in pts]
+    lo, hi = (min(mass), max(mass)) if mass else (0.0, 1.0)
+    hi = hi if hi > lo else lo + 1e-6
+    sc = None
+    for k, r in enumerate(rules):
+        sel = [q for q in pts if q["binding"] == r]
+        sc = ax.scatter([q["power_w"] for q in sel], [q["speed_m_s"] for q in sel], c=[q["mass_kg"] for q in sel],
+                        vmin=lo, vmax=hi, cmap="viridis", marker=PARETO_MARKERS[k % len(PARETO_MARKERS)],
+                        edgecolors=INK, linewidths=0.3, label=f"{r} ({len(sel)})")
+    if sc is not None:
+        fig.colorbar(sc, ax=ax, label="mass of motors and components [kg]")
+        ax.legend(title="rule of least margin", fontsize=7, title_fontsize=7)
+    ax.set_xlabel("electrical power at the design gait [W]")
+    ax.set_ylabel("predicted speed [m/s]")
+    caption = (f"Pareto front of swiftfin solve: {len(pts)} of its {front.get('size', len(pts))} designs (of "
+               f"{front.get('passing', '?')} passing among {front.get('sampled', '?')} sampled), speed against "
+               f"power, coloured by the mass of the motors and components, marked by the rule with the least margin.")
+    return Plot(_png(fig), caption, {"points": len(pts), "rules": counts})

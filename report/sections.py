@@ -7,6 +7,8 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
+
 from swiftfin.core.schema import Params
 from swiftfin.report.assets import FAMILY_COLORS, VERDICT_CLASS
 from swiftfin.report.markup import badge, esc, img, notice, num, table, tile
@@ -365,4 +367,60 @@ def steps_section(steps: dict | None, pics: dict | None) -> str:
         alt = f"assembly step {int(s['number'])}, exploded"
         fig = f'<figure class="wide">{img(pic, alt)}</figure>' if pic else ""
         out.append(head + "".join(f"<p>{f}</p>" for f in facts) + fig)
+    return "".join(out)
+
+
+def solve_section(solve: dict | None, plot=None, name: str = "") -> str:
+    """The trade-offs of a ``swiftfin solve --json`` result: the nearest passing design's changes, the Pareto front
+    over speed, mass and power (table and plot) and the rules that bind along it."""
+    if solve is None:
+        return notice("No solve given. <code>swiftfin solve --json FILE</code>, then <code>swiftfin report --solve "
+                      "FILE</code>, adds the nearest passing design and the Pareto front over speed, mass and power.",
+                      "info")
+    out = []
+    passes = bool(solve.get("passes"))
+    tiles = [tile("nearest design", "passes" if passes else "none passes",
+                  f"{len(solve.get('changes', []))} key(s) changed", "good" if passes else "warn"),
+             tile("designs evaluated", str(solve.get("designs_evaluated", "?")), esc(name))]
+    front = solve.get("front")
+    if front:
+        tiles.append(tile("on the front", str(front.get("size", len(front.get("points", [])))),
+                          f"of {front.get('passing', '?')} passing, {front.get('sampled', '?')} sampled"))
+    out.append(f'<div class="tiles">{"".join(tiles)}</div>')
+    rows = [[f"<code>{esc(c.get('key'))}</code>", num(c.get("from"), ".4g") if not isinstance(c.get("from"), str)
+             else esc(c.get("from")), num(c.get("to"), ".4g") if not isinstance(c.get("to"), str) else esc(c.get("to")),
+             esc(", ".join(c.get("buys", [])) or "-")] for c in solve.get("changes", [])]
+    if rows:
+        out.append("<h3>The nearest passing design</h3>" + table(["key", "from", "to", "what it buys (fails when "
+                                                                  "undone alone)"], rows))
+    if not solve.get("passes") and solve.get("failing"):
+        out.append(notice("The closest design found still fails: " + esc(", ".join(solve["failing"]))))
+    if front:
+        pts = list(front.get("points") or [])
+        if plot is not None:
+            out.append(f'<figure class="wide">{img(plot.png, "Pareto front: speed against power")}'
+                       f'<figcaption>{esc(plot.caption)}</figcaption></figure>')
+        if pts:
+            k = min(len(pts), 12)
+            shown = [pts[int(round(i))] for i in np.linspace(0, len(pts) - 1, k)]
+            rows = []
+            for q in shown:
+                ch = ", ".join(f"{esc(key.split('.', 1)[-1])}={esc(v) if isinstance(v, str) else num(v, '.4g')}"
+                               for key, v in q.get("changes", {}).items())
+                rows.append([num(q.get("speed_m_s"), ".3f"), num(q.get("mass_kg"), ".3f"), num(q.get("power_w"), ".2f"),
+                             f"<code>{esc(q.get('binding'))}</code>",
+                             esc(", ".join(q.get("limits_speed", [])) or "- (power or mass)"),
+                             f'<span class="detail">{ch or "(the design itself)"}</span>'])
+            out.append("<h3>Along the front, fastest first</h3>" + table(
+                ["speed [m/s]", "mass [kg]", "power [W]", "least margin", "fails 5 % faster", "changes"], rows,
+                numeric={0, 1, 2}))
+            counts: dict = {}
+            for q in pts:
+                for r in q.get("limits_speed") or ["(none: power or mass, not a rule)"]:
+                    counts[r] = counts.get(r, 0) + 1
+            out.append('<p class="detail">What stops the front\'s designs from beating 5 % faster: '
+                       + esc(", ".join(f"{r} ({n})" for r, n in sorted(counts.items(), key=lambda kv: -kv[1])))
+                       + ".</p>")
+        for n in front.get("notes", []):
+            out.append(f'<p class="detail">{esc(n)}</p>')
     return "".join(out)

@@ -552,3 +552,45 @@ def test_robot_section_reads_the_simulator_files(tmp_path, default_params):
     # without simulator files the section says so instead
     bare = write_report(p, tmp_path / "bare", findings=fake_findings(), audit=paper_audit()).read_text()
     assert "needs a build" in bare[bare.index('<section id="robot">'):]
+
+
+def test_solve_section_from_a_real_solve(tmp_path, default_params):
+    """`swiftfin solve --json` on a seeded design one rule short, then the page: the change, the front's plot
+    decoded, its rows fastest first, the rules that stop it; a page without --solve says how to add one."""
+    from swiftfin.cli import main
+    from swiftfin.core.params import dump_toml
+    from swiftfin.design_rules.vectorised import evaluate, seeded_designs
+
+    designs = seeded_designs(48)
+    fails = (evaluate(designs).severity == int(Severity.FAIL)).sum(axis=1)
+    p = designs[int(np.nonzero(fails == 1)[0][0])]
+    (tmp_path / "d.toml").write_text(dump_toml(p), encoding="utf-8")
+    vary = f"cable.pretension_n=1:{0.9 * p.cable.breaking_strength_n:.1f}"
+    assert main(["solve", str(tmp_path / "d.toml"), "--vary", vary, "--vary", "swimming.tail_beat_frequency_hz=0.2:3",
+                 "--front-samples", "128", "--out", str(tmp_path / "s.toml"), "--json", str(tmp_path / "s.json")]) == 0
+    solve = json.loads((tmp_path / "s.json").read_text())
+    text = write_report(default_params, tmp_path / "out", findings=fake_findings(), audit=paper_audit(),
+                        solve=solve, solve_name="s.json").read_text()
+    sec = text[text.index('<section id="solve">'):]
+    sec = sec[:sec.index("</section>")]
+    assert "cable.pretension_n" in sec and "The nearest passing design" in sec
+    assert len(decode_images(sec)) == 1
+    speeds = [float(v) for v in re.findall(r"<td class=num>([0-9.]+)</td><td class=num>[0-9.]+</td><td class=num>",
+                                            sec)]
+    assert speeds and speeds == sorted(speeds, reverse=True)
+    assert speeds[0] == pytest.approx(max(q["speed_m_s"] for q in solve["front"]["points"]), abs=5e-4)
+    assert "What stops the front" in sec
+    bare = write_report(default_params, tmp_path / "bare", findings=fake_findings(), audit=paper_audit()).read_text()
+    assert "swiftfin report --solve" in bare
+
+
+def test_cli_refuses_a_bad_solve_file(tmp_path, capsys):
+    from swiftfin.cli import main
+
+    (tmp_path / "x.json").write_text('{"front": 3}')
+    assert main(["report", str(DEFAULT_DESIGN), "--out", str(tmp_path / "o"), "--solve", str(tmp_path / "x.json")]) == 2
+    err = capsys.readouterr().err
+    assert "--solve" in err and "x.json" in err and "Traceback" not in err
+    assert main(["report", str(DEFAULT_DESIGN), "--out", str(tmp_path / "o"), "--solve", str(tmp_path / "no.json")]) == 2
+    assert "no such file" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()

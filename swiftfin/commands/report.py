@@ -1,8 +1,9 @@
-"""``swiftfin report [PARAMS] --out DIR [--fit DIR]``: the design report, ``DIR/report.html``.
+"""``swiftfin report [PARAMS] --out DIR [--fit DIR] [--solve FILE]``: the design report, ``DIR/report.html``.
 
 One self-contained page (pictures and styles inlined, no network): the assembly and every printable part
 rendered off-screen, the design rules, the mass table, the efficiency / tail-beat / body-wave plots, the paper
-audit and, with ``--fit FITDIR``, the before/after plots and effects of a ``swiftfin fit`` run.
+audit and, with ``--fit FITDIR``, the before/after plots and effects of a ``swiftfin fit`` run; with ``--solve
+FILE``, the trade-offs of a ``swiftfin solve --json FILE`` run (the nearest passing design, the Pareto front).
 
 Where the parts come from:
 
@@ -39,6 +40,9 @@ def configure(ap) -> None:
     ap.add_argument("--out", default="build", help="build folder; report.html is written here (default: build/)")
     ap.add_argument("--fit", metavar="FITDIR", default=None,
                     help="a `swiftfin fit` output folder (fit_report.json and PNG plots) to include")
+    ap.add_argument("--solve", metavar="SOLVE.json", default=None,
+                    help="a `swiftfin solve --json` result to include: the nearest passing design and the Pareto "
+                         "front over speed, mass and power")
     ap.add_argument("--cache-dir", default=None, help="rebuild cache when the parts must be built "
                                                       "(default: $SWIFTFIN_CACHE_DIR or .cache/swiftfin/)")
     ap.add_argument("--no-cache", action="store_true", help="do not read or write the rebuild cache")
@@ -116,6 +120,28 @@ def _read_mass_properties(path: Path):
     return data
 
 
+def _read_solve(path: Path) -> dict:
+    """The JSON ``swiftfin solve --json`` wrote, checked for what the report reads (UserError naming the file)."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise UserError(f"--solve {path}: no such file (expected the JSON of `swiftfin solve --json FILE`)") from None
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise UserError(f"--solve {path}: not readable JSON ({exc})") from None
+    if not isinstance(data, dict) or not isinstance(data.get("changes"), list) or "passes" not in data:
+        raise UserError(f"--solve {path}: not a `swiftfin solve --json` result (expected an object with "
+                        f"'passes' and a 'changes' list)")
+    front = data.get("front")
+    if front is not None:
+        pts = front.get("points") if isinstance(front, dict) else None
+        need = ("speed_m_s", "mass_kg", "power_w", "binding")
+        if not isinstance(pts, list) or not all(isinstance(q, dict) and all(
+                isinstance(q.get(k), (int, float, str)) for k in need) for q in pts):
+            raise UserError(f"--solve {path}: its 'front' needs a 'points' list, each with "
+                            f"{', '.join(need)}")
+    return data
+
+
 def run(args) -> int:
     from swiftfin.report.html import MASS_PROPERTIES_NAME, Progress, ReportTiming, write_report
 
@@ -127,6 +153,7 @@ def run(args) -> int:
         raise UserError(f"{out} exists and is not a folder; choose another --out")
     if args.fit is not None and not Path(args.fit).is_dir():
         raise UserError(f"--fit {args.fit}: no such folder (expected the output folder of `swiftfin fit`)")
+    solve = _read_solve(Path(args.solve)) if args.solve is not None else None
     progress = Progress()
     manifest = build_in_dir(out, params_file)
     mp, note = None, ""
@@ -167,7 +194,8 @@ def run(args) -> int:
     findings, audit = report_findings(p, parts, mp)
     timing = ReportTiming()
     path = write_report(p, out, parts=parts, mass_properties=mp, fit_dir=args.fit, findings=findings, audit=audit,
-                        progress=progress, params_name=params_file.name, mass_note=note, timing=timing)
+                        progress=progress, params_name=params_file.name, mass_note=note, timing=timing,
+                        solve=solve, solve_name=Path(args.solve).name if args.solve else "")
     size = path.stat().st_size
     print(f"swiftfin report: wrote {path} ({size / 1e6:.2f} MB; pictures {timing.render_s:.1f} s, plots "
           f"{timing.plots_s:.1f} s, total {time.perf_counter() - t0:.1f} s)")

@@ -90,7 +90,7 @@ def run(args) -> int:
     if res.front is not None:
         _print_front(res.front)
         if args.front_plot:
-            _plot_front(res.front, args.front_plot)
+            _plot_front(res, varies, args.front_plot)
             print(f"drew the front: {args.front_plot}")
     if args.json:
         write_text_atomic(args.json, json.dumps(_as_json(res, varies, wall), indent=2) + "\n")
@@ -137,38 +137,11 @@ def _print_front(front) -> None:
         print(f"note: {n}")
 
 
-def _plot_front(front, path) -> None:
-    """Speed against power, coloured by mass, one marker per binding rule."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+def _plot_front(res, varies, path) -> None:
+    """The front as the report draws it (report/plots.py pareto_plot), from the JSON this command writes."""
     from swiftfin.outdir import write_bytes_atomic
-
-    fig, ax = plt.subplots(figsize=(7, 4.5), dpi=120)
-    markers = "osD^v<>pXh*"
-    rules = list(front.binding_counts())
-    mass = [q.mass_kg for q in front.points]
-    lo, hi = (min(mass), max(mass)) if mass else (0.0, 1.0)
-    sc = None
-    for k, r in enumerate(rules):
-        pts = [q for q in front.points if q.binding == r]
-        sc = ax.scatter([q.power_w for q in pts], [q.speed_m_s for q in pts], c=[q.mass_kg for q in pts],
-                        vmin=lo, vmax=hi if hi > lo else lo + 1e-6, cmap="viridis", marker=markers[k % len(markers)],
-                        label=f"{r} ({len(pts)})", edgecolors="k", linewidths=0.3)
-    if sc is not None:
-        fig.colorbar(sc, ax=ax, label="mass of motors and components [kg]")
-        ax.legend(title="binds (least margin)", fontsize=7, title_fontsize=7, loc="lower right")
-    ax.set_xlabel("electrical power at the design gait [W]")
-    ax.set_ylabel("predicted speed [m/s]")
-    ax.set_title(f"Pareto front: {len(front.points)} of its {front.size} designs, of {front.passing} passing",
-                 fontsize=9)
-    ax.grid(alpha=0.3)
-    import io
-    buf = io.BytesIO()
-    fig.tight_layout()
-    fig.savefig(buf, format="png")
-    plt.close(fig)
-    write_bytes_atomic(path, buf.getvalue())
+    from swiftfin.report.plots import pareto_plot
+    write_bytes_atomic(path, pareto_plot(_as_json(res, varies, 0.0)["front"]).png)
 
 
 def _as_json(res, varies, wall: float) -> dict:
