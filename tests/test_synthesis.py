@@ -3,6 +3,7 @@
 closed forms where the answer is known."""
 from __future__ import annotations
 
+import json
 import subprocess
 import sys
 
@@ -238,3 +239,38 @@ def test_the_command_refuses_bad_input_with_exit_2(tmp_path):
     r = _cli("--front-samples", "0", "--front-plot", "f.png", cwd=tmp_path)
     assert r.returncode == 2 and "--front-plot" in r.stderr
     assert not list(tmp_path.iterdir())
+
+
+@pytest.mark.slow
+def test_the_command_builds_what_it_writes_and_checks_it_afloat(tmp_path, tmp_path_factory):
+    """`swiftfin solve --build DIR` on the paper fish, searching keys no part's solid reads (the cable's modulus,
+    the gait, the phase current, the material), then its whole build as a Dask task into DIR/builds/ through the
+    session's rebuild cache, and every rule with the build's mass properties: the floating rules are evaluated and
+    pass, exit 0; the row is in DIR/results.csv."""
+    import csv
+    from swiftfin.cli import main
+    cache = tmp_path_factory.getbasetemp() / "swiftfin-cache"
+    varies = ["cable.youngs_modulus_gpa=1:120", "swimming.tail_beat_frequency_hz=0.2:3", "motor.phase_current_a=0.3:1.5",
+              "print.material=PLA,PETG,ASA"]
+    args = ["solve", *[a for v in varies for a in ("--vary", v)], "--front-samples", "128", "--out",
+            str(tmp_path / "s.toml"), "--build", str(tmp_path / "b"), "--workers", "1", "--cache-dir", str(cache)]
+    assert main(args) == 0
+    (row,) = list(csv.DictReader((tmp_path / "b" / "results.csv").read_text().splitlines()))
+    assert row["design"] == "s" and row["status"] == "ok" and row["n_fail"] == "0"
+    assert (tmp_path / "b" / "builds" / "s" / "mass_properties.json").is_file()
+    from swiftfin.design_rules import RuleContext, run_rules
+    from swiftfin.design_rules.rules import mass_properties_from_json
+    from swiftfin.layout.design import load_design
+    mp = mass_properties_from_json(json.loads((tmp_path / "b" / "builds" / "s" / "mass_properties.json").read_text()))
+    floats = [f for f in run_rules(RuleContext(load_design(tmp_path / "s.toml"), mass_properties=mp))
+              if f.rule_id.startswith("float.")]
+    assert len(floats) == 3 and all(f.severity == Severity.PASS for f in floats), floats
+
+
+def test_the_build_options_are_checked_before_the_search(tmp_path):
+    r = _cli("--build-front", "2", cwd=tmp_path)
+    assert r.returncode == 2 and "--build-front" in r.stderr and "Traceback" not in r.stderr
+    (tmp_path / "f").write_text("x")
+    r = _cli("--build", "f", cwd=tmp_path)
+    assert r.returncode == 2 and "--build" in r.stderr and "Traceback" not in r.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["f"]

@@ -2,14 +2,19 @@
 rule, changing only the keys searched (:mod:`swiftfin.design_rules.synthesis`), and the Pareto front over speed, mass
 and electrical power of the passing designs, with the rule that binds along it (``--front-plot`` draws it).
 
-Exit codes: 0 a passing design was found and written to ``--out``; 1 none passes within the ranges (nothing is
-written; the closest design found and the rules it still fails are printed); 2 bad input (the parameter file, a
+With ``--build DIR`` the written design is then built (a Dask task, as ``swiftfin sweep --stage build``) and
+checked with its mass properties, the floating rules included; ``--build-front K`` builds K front designs beside it.
+
+Exit codes: 0 a passing design was found and written to ``--out`` (and, with ``--build``, passes every rule once
+built); 1 none passes within the ranges (nothing is written; the closest design found and the rules it still fails
+are printed), or the written design fails a rule once built; 2 bad input (the parameter file, a
 ``--vary``, an ``--out`` that exists or cannot be written).
 """
 from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -39,6 +44,18 @@ def configure(ap) -> None:
                          "front)")
     ap.add_argument("--front-plot", metavar="FILE.png", help="also draw the Pareto front (speed against power, "
                     "coloured by mass, marked by the rule that binds)")
+    ap.add_argument("--build", metavar="DIR", default=None,
+                    help="then build the written design (a Dask task, as `swiftfin sweep --stage build`: parts, "
+                         "assembly proof, mass properties) into DIR/builds/ and apply every rule, the floating ones "
+                         "included; exit 1 when the built design fails one")
+    ap.add_argument("--build-front", type=int, default=0, metavar="K",
+                    help="with --build, also build K designs spread along the Pareto front (default 0)")
+    ap.add_argument("--workers", type=int, default=None, help="local Dask worker processes for --build "
+                                                              "(default: one per core)")
+    ap.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                    help="an existing Dask scheduler for --build instead of a local cluster")
+    ap.add_argument("--cache-dir", default=None,
+                    help="rebuild cache the builds share (default: $SWIFTFIN_CACHE_DIR or .cache/swiftfin/ here)")
     ap.set_defaults(func=run)
 
 
@@ -70,6 +87,16 @@ def run(args) -> int:
         if not args.front_samples:
             raise UserError("--front-plot: there is no front to draw with --front-samples 0")
         check_output_file(args.front_plot, "--front-plot")
+    if args.build_front < 0 or (args.build_front and not args.build):
+        raise UserError(f"--build-front {args.build_front}: expected 0 or more designs, and --build DIR to build "
+                        f"them in")
+    if args.build_front and not args.front_samples:
+        raise UserError("--build-front: there is no front to build with --front-samples 0")
+    if args.workers is not None and args.workers < 1:
+        raise UserError(f"--workers {args.workers}: expected 1 or more worker processes")
+    if args.build:
+        from swiftfin.outdir import check_output_dir
+        check_output_dir(args.build, "--build")
     t0 = time.perf_counter()
     res = solve(base, varies, samples_per_key=args.samples, seed=args.seed, front_samples=args.front_samples,
                 progress=lambda text: print(f"  [{time.perf_counter() - t0:5.1f} s] {text}", file=sys.stderr))
@@ -105,7 +132,44 @@ def run(args) -> int:
                "# swiftfin check THIS --mass-properties DIR/mass_properties.json", ""]
     write_text_atomic(out, "\n".join(header) + dump_toml(res.design), new_only=True)
     print(f"\nwrote {out}")
+    if args.build:
+        return _build(args, res, varies, base, out)
     return 0
+
+
+def _build(args, res, varies, base, out: Path) -> int:
+    """The written design (and ``--build-front`` front designs) built as Dask tasks into ``--build`` and checked
+    with their mass properties: exit 0 when the written design passes every rule, 1 when it does not."""
+    from swiftfin.design_rules.synthesis import _params_of, front_spread
+    from swiftfin.sweep import SweepItem, sweep
+
+    root = Path(args.build)
+    items = [SweepItem(out.stem, str(out))]
+    if args.build_front and res.front is not None and res.front.points:
+        for k, q in enumerate(front_spread(res.front, args.build_front)):
+            path = root / "designs" / f"front_{k + 1}.toml"
+            head = (f"# Written by `swiftfin solve`: a design on the Pareto front, {q.speed_m_s:.3g} m/s, "
+                    f"{q.power_w:.3g} W, {q.mass_kg:.3g} kg of motors and components\n")
+            write_text_atomic(path, head + dump_toml(_params_of(base, varies, dict(q.changes))))
+            items.append(SweepItem(path.stem, str(path)))
+    print(f"\nbuilding {len(items)} design(s) as Dask tasks into {root}/builds/ (then every rule, the floating ones "
+          f"included) ...")
+    sys.stdout.flush()
+    rows, _ = sweep(items, root, stage="build", scheduler=args.scheduler,
+                    workers=args.workers or min(len(items), os.cpu_count() or 1), cache_dir=args.cache_dir,
+                    progress=lambda text: print(f"  {text}", file=sys.stderr, flush=True))
+    print(f"{'design':24} {'status':8} {'verdict':10} {'mass kg':>8}  failing rules / message")
+    for r in rows:
+        what = r["failing"] if r["status"] == "ok" else str(r["message"]).splitlines()[0][:100]
+        mass = f"{r['total_mass_kg']:.3f}" if isinstance(r["total_mass_kg"], float) else "-"
+        print(f"{r['design']:24} {r['status']:8} {str(r['verdict']):10} {mass:>8}  {what or '-'}")
+    first = rows[0]
+    if first["status"] == "ok" and not first["n_fail"]:
+        print(f"{out} built and passes every rule, the floating ones included ({root}/builds/{out.stem}/)")
+        return 0
+    print(f"{out} passes the kernel-free rules but not its build: "
+          + (first["failing"] if first["status"] == "ok" else str(first["message"]).splitlines()[0]))
+    return 1
 
 
 def _changes_text(changes) -> str:
