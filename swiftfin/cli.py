@@ -72,20 +72,26 @@ COMMANDS: dict[str, Command] = {
         "write DIR/report.html: pictures, rules, masses, plots, audit, fit",
         "Writes the design report, one self-contained HTML page: the assembly and every printed part rendered, "
         "the design rules, the mass table, the efficiency, tail-beat and body-wave plots, the paper audit and, "
-        "with --fit, a fit's before and after. Uses the build in DIR when it is of the same parameter file.",
+        "with --fit, a fit's before and after, and with --solve, a solve's nearest design and Pareto front. Uses "
+        "the build in DIR when it is of the same parameter file.",
         "swiftfin report --out build\n"
-        "swiftfin report my_fish.toml --out my_build --fit fit_joint"),
+        "swiftfin report my_fish.toml --out my_build --fit fit_joint\n"
+        "swiftfin report --out build --solve solve.json"),
     "solve": Command(
         "find the nearest design that passes every rule, and what each change buys",
         "Searches the keys you name (ranges of numbers, catalogue motors and cables, materials) for the design "
         "nearest to yours that passes every kernel-free design rule: fewest keys changed first, then the "
         "smallest change, each change pulled back to the boundary of the rule that binds. Prints what each change "
         "buys (the rules that fail when it alone is undone) and writes the design as a parameter file. Exit 0 "
-        "when a design passes, 1 when none does within the ranges (nothing written), 2 for bad input. Needs no "
-        "CAD kernel; build the result for the floating rules.",
+        "when a design passes, 1 when none does within the ranges (nothing written), 2 for bad input. Then the "
+        "Pareto front over speed, mass and electrical power of the passing designs, with the rule that binds "
+        "along it (--front-plot draws it). The search needs no CAD kernel; --build DIR builds the written design "
+        "as a Dask task and checks it afloat (exit 1 if the built design fails a rule).",
         "swiftfin solve                                   # the default levers, -> solved.toml\n"
         "swiftfin solve my_fish.toml --vary cable.pretension_n=10:200 --vary motor.model=custom,23HS22-2804S\n"
-        "swiftfin solve --vary swimming.tail_beat_frequency_hz=0.5:3 --out slower.toml --json solve.json"),
+        "swiftfin solve --vary swimming.tail_beat_frequency_hz=0.5:3 --out slower.toml --json solve.json\n"
+        "swiftfin solve --json solve.json --front-plot front.png --build solved_build   # then: swiftfin report "
+        "--solve solve.json"),
     "sweep": Command(
         "run many designs as Dask tasks (a build each, or the rules) into one table",
         "Runs every design named (parameter files, or folders of them) as a Dask task on a local cluster of one "
