@@ -84,8 +84,7 @@ ARC_STEP_DEG = 3.0
 """Angular step of the sampled arcs (bends, grooves): the chord lies r (1 - cos 1.5 deg) = 3.4e-4 r inside the arc."""
 SAMPLE_STEP_MM = 0.2
 """Step along a guide channel when finding the stretch inside its block (tube ends within this of the face)."""
-MIN_TUBE_MM = 1.0
-"""A stretch of channel inside a block shorter than this holds no tube (a sliver at a clipped corner)."""
+MIN_TUBE_MM = L.MIN_TUBE_MM
 STOP_FILL_FRACTION = 0.5
 """A tube end is seated when at least this fraction of the ring beyond its end is printed material of its own
 link: a shoulder across at least half the tube's wall takes the tube's push. Engineering default."""
@@ -277,20 +276,12 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
                 label = f"tube_{b.label}_{joint}_{SIDE_NAME[side]}{_suffix(n, len(runs))}"
                 out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, pts)),
                                    g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
-    from swiftfin.cad.hull import bulkhead_passages, hull_pieces, in_clevis_cut   # the hull cuts its holes alike
-    hw = {h.joint: h for h in all_joint_hardware(p)}
-    hole_r = g.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
-    shoulder = L.tube_seat_shoulder_mm(p)
+    from swiftfin.cad.hull import bulkhead_passages, hull_pieces   # the hull cuts its holes from the same
     for pc in hull_pieces(p):
         found: dict[tuple, list] = {}
-        for route, q0, q1 in bulkhead_passages(p, pc):
-            if (pc.rear_joint is not None and abs(q1[0] + pc.s_end_mm) < 1e-6
-                    and in_clevis_cut(p, hw[pc.rear_joint], np.array([q0, q1]), hole_r)):
-                continue     # the hole breaks into the clevis's room for the link: no bore to hold a tube
-            seat = q1 - shoulder * (q1 - q0) / np.linalg.norm(q1 - q0)
-            if np.linalg.norm(seat - q0) < MIN_TUBE_MM:
-                continue     # a bulkhead too thin for a tube and its shoulder: the cable runs bare through it
-            found.setdefault((route.joint + 1, route.side), []).append((q0, seat))
+        for route, q0, _, seat in bulkhead_passages(p, pc):
+            if seat is not None:
+                found.setdefault((route.joint + 1, route.side), []).append((q0, seat))
         for (J, side), items in found.items():
             for n, (q0, q1) in enumerate(items):
                 label = f"tube_{pc.name}_{J}_{SIDE_NAME[side]}{_suffix(n, len(items))}"
@@ -606,7 +597,7 @@ def tube_retentions(p: Params, tubes) -> list[TubeRetention]:
     for t in tubes:
         th = tube_turn_rad(t)
         drag = p.cable.breaking_strength_n * (1.0 - math.exp(-p.guides.mu_ptfe * th))
-        bore = t.od_mm + (p.print.clearance_sliding_mm if t.kind == "guide" else 2 * p.print.clearance_sliding_mm)
+        bore = L.tube_bore_diameter_mm(p, t.kind)
         out.append(TubeRetention(t.label, th, drag, bond * math.pi * t.od_mm * t.length_mm,
                                  shear * math.pi * bore * shoulder))
     return out

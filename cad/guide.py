@@ -41,7 +41,8 @@ from swiftfin.cad.kernel import Edge, Face, Plane, Solid, Transition, Wire
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.layout.fastening import Fastener
 from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, cable_exit_hole_mm, cable_routes, half_height_mm,
-                                      motor_placements, naca_half_width_mm, spool_dims, tube_seat_shoulder_mm)
+                                      motor_placements, naca_half_width_mm, spool_dims, tube_bore_diameter_mm,
+                                      tube_seat_shoulder_mm)
 from swiftfin.layout.mount_plan import BOSS_MARGIN_MM, motor_screw_fit
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.errors import BuildError, UserError
@@ -295,7 +296,7 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     c = assembly_gap_mm(p)
     wall = pr.perimeters * pr.line_width_mm
     R = g.min_bend_radius_mm
-    dia = g.ptfe_tube_od_mm + pr.clearance_sliding_mm
+    dia = tube_bore_diameter_mm(p, "guide")
     r_ch = dia / 2
     motors = motor_placements(p)
     routes = cable_routes(p)

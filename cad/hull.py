@@ -124,23 +124,6 @@ def _cavity_range(p: Params, pc: HullPiece) -> tuple[float, float]:
     return cavity_range_mm(p, pc)
 
 
-def bulkhead_passages(p: Params, pc: HullPiece) -> list[tuple]:
-    """Where the cable routes cross the bulkheads of this piece: ``(route, front, back)``, the route's segment
-    that crosses a bulkhead's mid-plane cut at the bulkhead's front and back faces (body frame, mm)."""
-    out = []
-    for sf, sb in _bulkheads(p, pc):
-        xf, xb = -sf, -sb
-        xm = (xf + xb) / 2
-        for route in L.cable_routes(p):
-            pts = np.asarray(route.points_mm, float)
-            for a, b in zip(pts[:-1], pts[1:]):
-                if (a[0] - xm) * (b[0] - xm) >= 0:
-                    continue
-                d = b - a
-                out.append((route, a + (xf - a[0]) / d[0] * d, a + (xb - a[0]) / d[0] * d))
-    return out
-
-
 def in_clevis_cut(p: Params, h, pts: np.ndarray, hole_r: float) -> bool:
     """Whether a hole of radius ``hole_r`` round the segment ``pts`` (two points) reaches into the room the parent's
     rear bulkhead leaves for joint ``h``'s link (the sector and knuckle cylinders of
@@ -156,25 +139,50 @@ def in_clevis_cut(p: Params, h, pts: np.ndarray, hole_r: float) -> bool:
     return False
 
 
-def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
-    """The cable passages through the bulkheads: the PTFE tube's bore (OD + 2 sliding clearance) from the front
-    face to the tube's seat, a shoulder (:func:`swiftfin.layout.geometry.tube_seat_shoulder_mm`) short of the back
-    face, and the cable's exit hole (:func:`swiftfin.layout.geometry.cable_exit_hole_mm`) on through it."""
-    r_bore = p.guides.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
-    r_exit = L.cable_exit_hole_mm(p) / 2
-    shoulder = L.tube_seat_shoulder_mm(p)
+def bulkhead_passages(p: Params, pc: HullPiece) -> list[tuple]:
+    """Where the cable routes cross the bulkheads of this piece: ``(route, front, back, seat)``, the route's segment
+    that crosses a bulkhead's mid-plane cut at the bulkhead's front and back faces (body frame, mm), and where its
+    PTFE tube ends on the printed shoulder (:func:`swiftfin.layout.geometry.tube_seat_shoulder_mm` short of the back
+    face). ``seat`` is None where the passage holds no tube: the hole breaks into the clevis's room for the link
+    behind (no bore to hold one), or the bulkhead is too thin for a tube of ``MIN_TUBE_MM`` and its shoulder."""
     hw = {h.joint: h for h in all_joint_hardware(p)}
+    r_bore = L.tube_bore_diameter_mm(p, "bulkhead") / 2
+    shoulder = L.tube_seat_shoulder_mm(p)
     out = []
-    for _, front, back in bulkhead_passages(p, pc):
+    for sf, sb in _bulkheads(p, pc):
+        xf, xb = -sf, -sb
+        xm = (xf + xb) / 2
+        rear = pc.rear_joint if sb == pc.s_end_mm else None
+        for route in L.cable_routes(p):
+            pts = np.asarray(route.points_mm, float)
+            for a, b in zip(pts[:-1], pts[1:]):
+                if (a[0] - xm) * (b[0] - xm) >= 0:
+                    continue
+                d = b - a
+                front, back = a + (xf - a[0]) / d[0] * d, a + (xb - a[0]) / d[0] * d
+                seat = back - shoulder * (back - front) / np.linalg.norm(back - front)
+                if (rear is not None and in_clevis_cut(p, hw[rear], np.array([front, back]), r_bore)) \
+                        or np.linalg.norm(seat - front) < L.MIN_TUBE_MM:
+                    seat = None
+                out.append((route, front, back, seat))
+    return out
+
+
+def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
+    """The cable passages through the bulkheads (:func:`bulkhead_passages`): the PTFE tube's bore from the front
+    face to the tube's seat and the cable's exit hole (:func:`swiftfin.layout.geometry.cable_exit_hole_mm`) on
+    through the shoulder; a passage without a tube is the bore straight through."""
+    r_bore = L.tube_bore_diameter_mm(p, "bulkhead") / 2
+    r_exit = L.cable_exit_hole_mm(p) / 2
+    out = []
+    for _, front, back, seat in bulkhead_passages(p, pc):
         d = (back - front) / np.linalg.norm(back - front)
         ext = 2.0 / abs(d[0])                   # 2 mm beyond each face, along x
-        seat = back - shoulder * d
-        if (pc.rear_joint is not None and abs(back[0] + pc.s_end_mm) < 1e-6
-                and in_clevis_cut(p, hw[pc.rear_joint], np.array([front, back]), r_bore)):
-            seat = back + ext * d               # the hole breaks into the clevis's room: no tube, no shoulder
-        out.append(rod(tuple(front - ext * d), tuple(d), r_bore, float(np.linalg.norm(seat - front)) + ext))
-        if np.linalg.norm(seat - front) < np.linalg.norm(back - front):
-            out.append(rod(tuple(seat - 0.1 * d), tuple(d), r_exit, shoulder + 0.1 + ext))
+        end = back + ext * d if seat is None else seat
+        out.append(rod(tuple(front - ext * d), tuple(d), r_bore, float(np.linalg.norm(end - front)) + ext))
+        if seat is not None:
+            out.append(rod(tuple(seat - 0.1 * d), tuple(d), r_exit,
+                           float(np.linalg.norm(back - seat)) + 0.1 + ext))
     return out
 
 

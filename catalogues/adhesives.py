@@ -7,6 +7,8 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
+from swiftfin.catalogues.table import by_name
+
 HERE = Path(__file__).resolve().parent
 
 
@@ -32,8 +34,4 @@ def adhesives() -> tuple[Adhesive, ...]:
 
 
 def adhesive(name: str) -> Adhesive:
-    for a in adhesives():
-        if a.name == name:
-            return a
-    raise KeyError(f"no adhesive {name!r} in catalogues/adhesives.toml "
-                   f"(it holds {', '.join(a.name for a in adhesives())})")
+    return by_name(adhesives(), name, "adhesive", "adhesives.toml")

@@ -134,7 +134,9 @@ def tube_lines(p: Params) -> list[BomLine]:
     from swiftfin.cad.cables import TUBE_ADHESIVE, tube_runs
     from swiftfin.catalogues.adhesives import adhesive
 
-    g, cs = p.guides, p.print.clearance_sliding_mm
+    from swiftfin.layout.geometry import tube_bore_diameter_mm
+
+    g = p.guides
     tubes = tube_runs(p)
     if not tubes:
         return []
@@ -143,8 +145,7 @@ def tube_lines(p: Params) -> list[BomLine]:
     for t in tubes:
         cut = math.floor(t.length_mm / TUBE_CUT_STEP_MM + 1e-9) * TUBE_CUT_STEP_MM
         groups.setdefault(cut, []).append(t.label.removeprefix("tube_"))
-        gap = cs / 2 if t.kind == "guide" else cs        # radial clearance of a guide channel / a bulkhead bore
-        glue_mm3 += math.pi * ((t.od_mm / 2 + gap) ** 2 - (t.od_mm / 2) ** 2) * t.length_mm
+        glue_mm3 += math.pi * ((tube_bore_diameter_mm(p, t.kind) / 2) ** 2 - (t.od_mm / 2) ** 2) * t.length_mm
     spec = f"PTFE, {g.ptfe_tube_od_mm:g} x {g.ptfe_tube_id_mm:g} mm, etched (bondable) outside"
     out = [BomLine("PTFE tube piece", f"{spec}, cut {cut:g} mm", len(labels), "pcs", _where(labels),
                    "cad.cables.tube_runs (mouth to seat)") for cut, labels in sorted(groups.items())]

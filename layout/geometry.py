@@ -220,6 +220,19 @@ def tube_seat_shoulder_mm(p: Params) -> float:
     return MIN_WEB_LINES * p.print.line_width_mm
 
 
+MIN_TUBE_MM = 1.0
+"""A stretch of bore shorter than this holds no PTFE tube (a sliver of guide channel at a clipped corner, a bulkhead
+too thin for a tube and its shoulder): the cable runs bare through it."""
+
+
+def tube_bore_diameter_mm(p: Params, kind: str) -> float:
+    """Diameter of the bore a PTFE tube sits in: a guide channel ("guide": the tube's OD and the sliding clearance)
+    or a bulkhead passage ("bulkhead": the sliding clearance each side, :func:`swiftfin.layout.joints.passage_radius_mm`)."""
+    if kind == "guide":
+        return p.guides.ptfe_tube_od_mm + p.print.clearance_sliding_mm
+    return p.guides.ptfe_tube_od_mm + 2 * p.print.clearance_sliding_mm
+
+
 def cable_exit_hole_mm(p: Params) -> float:
     """Diameter of the hole through a tube's seat: the tube's bore and the sliding clearance (the cable leaves the
     tube along its axis, so it clears the hole by what it clears the tube's bore)."""

@@ -164,7 +164,7 @@ def passage_lines_mm(p: Params, x_mm: float) -> tuple[tuple[tuple, tuple], ...]:
 
 def passage_radius_mm(p: Params) -> float:
     """Radius of a cable's passage through a bulkhead: the PTFE tube's and the sliding clearance (cad/hull.py)."""
-    return p.guides.ptfe_tube_od_mm / 2 + p.print.clearance_sliding_mm
+    return L.tube_bore_diameter_mm(p, "bulkhead") / 2
 
 
 def _row_clear_of_passages(p: Params, x_front_mm: float, s: ScrewSize, y_mm: float, rows_z_mm) -> float:
