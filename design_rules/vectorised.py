@@ -32,6 +32,10 @@ agree to rounding (tests/test_vectorised_rules.py proves it on seeded designs, r
   over the grid is found at a handful of candidate samples (the ends and the samples next to the one crossing
   point), then the same comparisons as the per-design code.
 
+The loops over time samples, links and strips (``joint_loads``' time loop and strip moments, the cable drive, the
+pull-out curve) run compiled (``design_rules.loads_kernel``, numba, imported on first use): the same operations,
+sample by sample, with the designs innermost and no temporaries.
+
 Designs outside the fast path's validity (a link yawed beyond ``SLOPE_MAX``, a route with no tangent, a
 non-finite number) are evaluated by the per-design code; ``RuleArrays.error`` marks designs that it refuses too
 (it raises), with every value NaN.
@@ -434,6 +438,21 @@ def _fixing_stations_mm(motor_s, frame_mm):
     return np.concatenate([motor_s - dx, motor_s + dx], axis=1)
 
 
+def _kernels():
+    """``design_rules.loads_kernel``, imported on first use: numba (and scipy, which it loads) stays out of commands
+    that only name the vectorised rules (``swiftfin solve --help``)."""
+    from swiftfin.design_rules import loads_kernel
+    return loads_kernel
+
+
+def _c64(v, N: int):
+    """``v`` as the compiled kernels take it: float64, C-contiguous, the designs (N) on the last axis (a number is
+    repeated for every design)."""
+    v = np.asarray(v, dtype=np.float64)
+    v = np.broadcast_to(v, v.shape[:-1] + (N,)) if v.ndim else np.full(N, float(v))
+    return np.require(v, np.float64, ["C", "W"])     # one signature: never a read-only view (numba types it apart)
+
+
 def _row_blocks(rows: int, cols: int):
     """Slices of ``rows`` such that a (block, cols) float array stays under 128 KiB: glibc's malloc maps
     larger blocks from the kernel afresh each time (page faults at every temporary), smaller ones it reuses."""
@@ -769,26 +788,9 @@ class _Group:
         ang = 2 * np.pi * np.arange(T2) / N_T
         C_all, S_all = np.cos(ang)[:, None], np.sin(ang)[:, None]
         om = 2 * np.pi * c("swimming.tail_beat_frequency_hz")
-        om2 = om * om
         a, b = self._node_coeffs(nodes, L)           # y(node) = a cos(w t) + b sin(w t)
         dxn = np.diff(nodes, axis=0)                                               # (n+1, N)
         sa, sb = np.diff(a, axis=0) / dxn, np.diff(b, axis=0) / dxn                # chord slopes' coefficients
-
-        def wave(p, q, C, S):       # p cos(w t) + q sin(w t) on the samples (C, S): (T, N)
-            out = p * C
-            out += q * S
-            return out
-
-        def kin(pa, pb, C, S):
-            """A link's slope, its rate, cos and sin of its yaw phi = atan(slope) and phi's first two
-            derivatives (analytic: see the module docstring)."""
-            sig = wave(pa, pb, C, S)
-            sigd = wave(om * pb, -om * pa, C, S)
-            c2 = 1.0 / (1.0 + sig * sig)
-            cph = np.sqrt(c2)
-            phid = sigd * c2
-            phidd = -c2 * sig * (om2 + 2 * sigd * phid)
-            return sig, sigd, cph, sig * cph, phid, phidd
 
         def link_of(xq):
             """Link (0..n) of stations xq (m, N) on the chain, and the weight along it."""
@@ -806,166 +808,46 @@ class _Group:
             return (ta(a, k, axis=0) * (1 - w) + ta(a, k + 1, axis=0) * w,
                     ta(b, k, axis=0) * (1 - w) + ta(b, k + 1, axis=0) * w, ta(sa, k, axis=0), ta(sb, k, axis=0))
 
-        # body strips from joint 1 to the hull end (S, N), in row blocks, and the moments the forces need:
+        # body strips from joint 1 to the hull end (S, N) and the moments the forces need:
         # added mass alpha {1, u, u^2} and drag beta {1, u, u^2, u^3} (u along the link; x = x_link + u l_link),
         # (S, 7, N), with their prefix sums over the strips (S+1, 7, N)
         e0 = xj[0]
         e_end = self.hend * MM
-        S1_ = N_STRIPS + 1
-        ws = np.empty((N_STRIPS, N))
-        ks = np.empty((N_STRIPS, N), np.intp)
-        mom = self.work("mom", (N_STRIPS, 7, N))
         c_am = c(hy + "body_added_mass_coefficient") * rho * np.pi
         c_dr = 0.5 * rho * c(hy + "body_drag_coefficient")
-        for blk in _row_blocks(N_STRIPS, N):
-            i = np.arange(blk.start, blk.stop + 1)[:, None]
-            edges = _linspace_pt(e0, e_end, S1_, i)
-            x_ = 0.5 * (edges[1:] + edges[:-1])
-            d_ = edges[1:] - edges[:-1]
-            h = 2.0 * (self.H * _naca_w(x_ / MM, self.L_mm, self.t_naca)) * MM
-            ks[blk], ws[blk] = link_of(x_)
-            w_ = ws[blk]
-            m = mom[blk]
-            np.multiply(c_am * (h / 2) ** 2, d_, out=m[:, 0])
-            np.multiply(m[:, 0], w_, out=m[:, 1])
-            np.multiply(m[:, 1], w_, out=m[:, 2])
-            np.multiply(c_dr * h, d_, out=m[:, 3])
-            for q in (4, 5, 6):
-                np.multiply(m[:, q - 1], w_, out=m[:, q])
-        cum = self.work("cum", (S1_, 7, N))
-        cum[0] = 0.0
-        for s_ in range(N_STRIPS):      # a loop of long vector adds (numpy's accumulate runs one column at a time)
-            np.add(cum[s_], mom[s_], out=cum[s_ + 1])
-        lo = np.stack([(ks < k).sum(axis=0) for k in range(1, n + 1)])             # (n, N): link k's strips
-        hi = np.stack([(ks <= k).sum(axis=0) for k in range(1, n + 1)])
+        f64 = lambda v: _c64(v, N)  # noqa: E731
+        cum = self.work("cum", (N_STRIPS + 1, 7, N))
+        lo, hi = np.empty((n, N), np.int64), np.empty((n, N), np.int64)
+        w_first, w_last = np.empty((n, N)), np.empty((n, N))
+        _kernels().strip_moments(f64(e0), f64(e_end), N_STRIPS, f64(nodes), f64(self.H), f64(self.L_mm),
+                                   f64(self.t_naca), f64(c_am), f64(c_dr), cum, lo, hi, w_first, w_last)
         nn = np.arange(N)
-        cum_lo = np.ascontiguousarray(cum[lo, :, nn].transpose(0, 2, 1))           # (n, 7, N)
-        tot = np.ascontiguousarray(cum[hi, :, nn].transpose(0, 2, 1)) - cum_lo
-        w_first = ws[np.minimum(lo, N_STRIPS - 1), nn]                             # (n, N)
-        w_last = ws[np.clip(hi - 1, 0, N_STRIPS - 1), nn]
+        tot = cum[hi, :, nn].transpose(0, 2, 1) - cum[lo, :, nn].transpose(0, 2, 1)   # (n, 7, N)
         step = (e_end - e0) / N_STRIPS
-        off4 = (3 + np.arange(4)) * N                      # the drag moments of a (strip, design) in cum
-        cum_flat = cum.reshape(-1)
-        cum_lo_flat = cum_lo.reshape(-1)
 
         masses, x_c, izz = self.shell_masses()                                     # (n, N)
         a_c, b_c, _, _ = coeffs_at(x_c)
-        e1, e2, e3, thetad, thetadd, y_joint = (np.empty((n, T2, N)) for _ in range(6))
-        amp = np.zeros((n, N))
-        smax = np.zeros(N)
         f = self.fin
         xq = np.stack([f["quarter"], f["centroid"]])                               # (2, N)
         aq, bq, saq, sbq = coeffs_at(xq)
-        same_link = np.array_equal(saq[0], saq[1]) and np.array_equal(sbq[0], sbq[1])
-        behind = ((xq[:, None, :] - xj[None]) > 0).all()                           # both points behind every joint
         ar = f["ar"]
         a_slope = c(hy + "fin_lift_slope_factor") * 2 * np.pi * ar / (ar + 2)
-        cd90, cmax = c(hy + "fin_drag_coefficient_90"), c(hy + "fin_normal_coefficient_max")
         m_af = c(hy + "fin_added_mass_coefficient") * rho * np.pi * (f["span"] / 2) ** 2 * f["chord"]
-        fin_tau = []
-        # the time samples in blocks whose arrays (samples, designs) stay below the allocator's mmap threshold
-        for tb in _row_blocks(T2, N):
-            C, S = C_all[tb], S_all[tb]
-            prev = kin(sa[0], sb[0], C, S)
-            smax = np.maximum(smax, np.abs(prev[0]).max(axis=0))
-            for k in range(1, n + 1):
-                j = k - 1
-                sig, sigd, cph, sph, phid, phidd = kin(sa[k], sb[k], C, S)
-                smax = np.maximum(smax, np.abs(sig).max(axis=0))
-                np.subtract(phid, prev[4], out=thetad[j, tb])
-                np.subtract(phidd, prev[5], out=thetadd[j, tb])
-                np.maximum(amp[j], _max_abs_angle(sig - prev[0], 1.0 + sig * prev[0]), out=amp[j])
-                prev = (sig, None, None, None, phid, phidd)
-                # the wave at the link's front node, and along the link: w = P + Q u (u in [0, 1]) and its rate
-                yk = wave(a[k], b[k], C, S)
-                y_joint[j, tb] = yk
-                vk = wave(om * b[k], -om * a[k], C, S)
-                dy = sig * dxn[k]
-                dv = sigd * dxn[k]
-                P = U * sph + cph * vk
-                Q = cph * dv
-                spd = sph * phid
-                Pd = cph * (U * phid - om2 * yk) - spd * vk
-                Qd = -om2 * (cph * dy) - spd * dv
-                m0, m1, m2, S0, S1, S2, S3 = tot[j]
-                H0 = Pd * m0 + Qd * m1                   # added mass: sum of rho pi (h/2)^2 dx dw/dt {1, u}
-                H1 = Pd * m1 + Qd * m2
-                PP, PQ, QQ = P * P, 2 * P * Q, Q * Q     # drag: sum of beta |w| w {1, u}, w^2 a quadratic in u
-                G0 = PP * S0
-                G0 += PQ * S1
-                G0 += QQ * S2
-                G1 = PP * S1
-                G1 += PQ * S2
-                G1 += QQ * S3
-                W0, W1 = P + Q * w_first[j], P + Q * w_last[j]
-                sgn = np.sign(W0 + W1)                   # |w| w = sgn w^2 where w keeps its sign on the link
-                idx = np.flatnonzero((W0 < 0) != (W1 < 0))
-                if len(idx):                             # w changes sign: the strips below its zero count negative
-                    sgn.reshape(-1)[idx] = 1.0
-                    d_i = idx % N
-                    Pi, Qi = P.reshape(-1)[idx], Q.reshape(-1)[idx]
-                    q = np.ceil((nodes[k, d_i] - e0[d_i] + (-Pi / Qi) * dxn[k, d_i]) / step[d_i] - 0.5)
-                    q = np.clip(q, lo[j, d_i], hi[j, d_i]).astype(np.intp)
-                    low = cum_flat[(q * (7 * N) + d_i)[:, None] + off4] \
-                        - cum_lo_flat[(j * 7 * N + d_i)[:, None] + off4]                 # (M, 4) below the cut
-                    pp, pq, qq = Pi * Pi, 2 * Pi * Qi, Qi * Qi
-                    sq = np.sign(Qi)
-                    for G, (i0, i1, i2) in ((G0, (0, 1, 2)), (G1, (1, 2, 3))):
-                        g = G.reshape(-1)
-                        g[idx] = sq * (g[idx] - 2 * (pp * low[:, i0] + pq * low[:, i1] + qq * low[:, i2]))
-                G0 *= sgn
-                G1 *= sgn
-                H0 += G0
-                H1 += G1
-                E = wave(a_c[j], b_c[j], C, S)           # link inertia: m a_com and I phi_ddot
-                E *= -om2 * masses[j]
-                # r x F summed over the link's strips: H0 (x_link cos phi + y_k sin phi) + H1 (l cos phi + dy sin phi)
-                o1 = e1[j, tb]
-                np.multiply(cph * nodes[k] + sph * yk, H0, out=o1)
-                o1 += (cph * dxn[k] + sph * dy) * H1
-                o1 += E * x_c[j]
-                o1 += izz[j] * phidd
-                np.multiply(cph, H0, out=e2[j, tb])
-                e2[j, tb] += E
-                np.multiply(sph, H0, out=e3[j, tb])
-            # caudal fin: lift at the quarter chord, added mass at the centroid
-            kin_q = kin(saq[0], sbq[0], C, S)
-            kin_c = kin_q if same_link else kin(saq[1], sbq[1], C, S)
-            smax = np.maximum(smax, np.maximum(np.abs(kin_q[0]).max(axis=0), np.abs(kin_c[0]).max(axis=0)))
-            _, _, c_q, s_q, _, _ = kin_q
-            vf = wave(om * bq[0], -om * aq[0], C, S)
-            wf = U * s_q + vf * c_q
-            uf = U * c_q - vf * s_q
-            V2 = uf * uf + wf * wf
-            cn = (a_slope * wf * uf + cd90 * wf * np.abs(wf)) / V2
-            if not (V2 > 0).all():
-                cn = np.where(V2 > 0, cn, 0.0)
-            cn = np.clip(cn, -cmax, cmax)
-            f_lift = 0.5 * rho * f["area"] * V2 * cn
-            _, _, c_c, s_c, pd_c, _ = kin_c
-            yc = wave(aq[1], bq[1], C, S)
-            vc = wave(om * bq[1], -om * aq[1], C, S)
-            wdot = U * c_c * pd_c - vc * s_c * pd_c - om2 * yc * c_c
-            f_fam = m_af * wdot
-            for p, (force, sp, cp) in enumerate(((f_lift, s_q, c_q), (f_fam, s_c, c_c))):
-                fc, fs = force * cp, force * sp
-                yq = wave(aq[p], bq[p], C, S)
-                if behind:      # r x F = (fc x_q + fs y_q) - x_j fc - y_j fs: into the last link's suffix sums
-                    e1[-1, tb] += fc * xq[p] + fs * yq
-                    e2[-1, tb] += fc
-                    e3[-1, tb] += fs
-                else:
-                    lever = (xq[p] - xj)[:, None, :]                               # (n, 1, N)
-                    fin_tau.append((tb, np.where(lever > 0, fc * lever + fs * (yq - y_joint[:, tb]), 0.0)))
+        tau, thetad, thetadd = (np.empty((n, T2, N)) for _ in range(3))
+        ratio = np.zeros((n, N))
+        den_bad = np.zeros((n, N), bool)
+        smax = _kernels().time_loop(
+            np.ascontiguousarray(C_all[:, 0]), np.ascontiguousarray(S_all[:, 0]), f64(om), f64(U),
+            f64(a), f64(b), f64(sa), f64(sb), f64(nodes), f64(dxn), f64(tot), f64(w_first), f64(w_last),
+            lo, hi, cum, f64(e0), f64(step),
+            f64(masses), f64(a_c), f64(b_c), f64(x_c), f64(izz), f64(aq), f64(bq), f64(saq), f64(sbq), f64(xq),
+            f64(rho), f64(f["area"]), f64(a_slope), f64(c(hy + "fin_drag_coefficient_90")),
+            f64(c(hy + "fin_normal_coefficient_max")), f64(m_af), tau, thetad, thetadd, ratio, den_bad)
+        amp = np.arctan(ratio)
+        for j, d in zip(*np.nonzero(den_bad)):      # a relative angle past 90 deg: atan2 sample by sample
+            cur, prev = sa[j + 1, d] * C_all + sb[j + 1, d] * S_all, sa[j, d] * C_all + sb[j, d] * S_all
+            amp[j, d] = np.abs(np.arctan2(cur - prev, 1.0 + cur * prev)).max()
         self.slope_ok = smax <= SLOPE_MAX
-        for e in (e1, e2, e3):             # suffix sums: joint j takes the links behind it
-            for k in range(n - 2, -1, -1):
-                e[k] += e[k + 1]
-        tau = e1
-        tau -= xj[:, None, :] * e2
-        tau -= y_joint * e3
-        for tb, v in fin_tau:
-            tau[:, tb] += v
         self.tau_half, self.thetad_half, self.thetadd_half, self.amp = tau, thetad, thetadd, amp
 
     # ---------------------------------------------------------------- drive loads (layout.loads.drive_loads)
@@ -984,53 +866,12 @@ class _Group:
         ratio_w = np.exp(c("spool.mu_cable_drum") * (2 * math.pi * c("spool.wraps")))
         inv_step = (m / r) / np.radians(c("motor.full_step_deg"))
         T2 = N_T // 2
-        peak_motor, peak_tension, peak_spool, comp_max = (np.full((n, N), -np.inf) for _ in range(4))
-        cap_min = np.full((n, N), np.inf)
+        peak_motor, peak_tension, peak_spool, comp_max, cap_min = (np.empty((n, N)) for _ in range(5))
         self.d = {"steps": np.empty((n, T2, N)), "need": np.empty((n, T2, N))}
-        for j in range(n):
-            kl, kr = EA / length[0, j], EA / length[1, j]
-            km = (kl + kr) * m
-            ul, ur = kl / km, kr / km
-            el, er = np.exp(mu * bend[0, j]), np.exp(mu * bend[1, j])
-            il, ir = 1.0 / el, 1.0 / er
-            ckl, ckr = 1.0 / (kl * m), 1.0 / (kr * m)
-            for tb in _row_blocks(T2, N):
-                tau, rate, acc = self.tau_half[j, tb], self.thetad_half[j, tb], self.thetadd_half[j, tb]
-                vl, vr = tau * ul, tau * ur
-                need = None
-                for half in (1.0, -1.0):
-                    ta, tb_ = (T0 + vl, T0 - vr) if half > 0 else (T0 - vl, T0 + vr)
-                    slack_b = tb_ < 0.0
-                    if slack_b.any():
-                        ta = np.where(slack_b, half * tau / m, ta)
-                        tb_ = np.where(slack_b, 0.0, tb_)
-                    slack_a = ta < 0.0
-                    if slack_a.any():
-                        tb_ = np.where(slack_a, -half * tau / m, tb_)
-                        ta = np.where(slack_a, 0.0, ta)
-                    toward = rate >= 0.0 if half > 0 else rate <= 0.0
-                    sl = ta * np.where(toward, el, il)
-                    sr = tb_ * np.where(toward, ir, er)
-                    tt, ts = np.maximum(sl, sr), np.minimum(sl, sr)
-                    tm = sl - sr
-                    tm *= r
-                    tm += (half * Jm) * acc
-                    np.abs(tm, out=tm)
-                    need = tm if need is None else np.maximum(need, tm, out=need)
-                    left = ta >= tb_
-                    tmax = np.where(left, ta, tb_)
-                    np.maximum(peak_tension[j], tmax.max(axis=0), out=peak_tension[j])
-                    tmax -= T0
-                    tmax *= np.where(left, ckl, ckr)
-                    np.maximum(comp_max[j], tmax.max(axis=0), out=comp_max[j])
-                    np.maximum(peak_spool[j], tt.max(axis=0), out=peak_spool[j])
-                    ts *= ratio_w
-                    ts /= np.maximum(tt, 1e-12)
-                    np.minimum(cap_min[j], ts.min(axis=0), out=cap_min[j])
-                np.maximum(peak_motor[j], need.max(axis=0), out=peak_motor[j])
-                self.d["need"][j, tb] = need
-                # the two halves' samples share a full-step rate: the pull-out curve is read once for both
-                np.multiply(np.abs(rate), inv_step, out=self.d["steps"][j, tb])
+        f64 = lambda v: _c64(v, N)  # noqa: E731
+        _kernels().drive(f64(m), f64(r), f64(T0), f64(EA), f64(mu), f64(Jm), f64(ratio_w), f64(inv_step),
+                           f64(bend), f64(length), self.tau_half, self.thetad_half, self.thetadd_half,
+                           self.d["need"], self.d["steps"], peak_motor, peak_tension, peak_spool, comp_max, cap_min)
         self.d.update(peak_motor=peak_motor, peak_tension=peak_tension, peak_spool=peak_spool, comp_max=comp_max,
                       cap_min=cap_min,
                       mean_pos_power=np.clip(self.tau_half * self.thetad_half, 0.0, None).mean(axis=1).sum(axis=0))
@@ -1189,27 +1030,13 @@ def _pullout(g: _Group, out: _Out):
     N = g.N
     n_pts = (~np.isnan(rates_all)).sum(axis=0)
     last = rates_all[n_pts - 1, np.arange(N)]
-    x = g.d["steps"].reshape(-1, N)                                             # (K, N)
-    max_rate = x.max(axis=0)
+    ratio, max_rate = np.empty(N), np.empty(N)
+    _kernels().pullout_ratio(_c64(rates_all, N), _c64(torques_all, N), g.d["steps"].reshape(-1, N),
+                               g.d["need"].reshape(-1, N), ratio, max_rate)
     beyond = max_rate > last
-    W = rates_all.shape[0]
-    xp = np.where(np.isnan(rates_all), np.inf, rates_all)                       # (W, N)
-    fp = np.where(np.isnan(torques_all), 0.0, torques_all)
-    j = (x >= xp[1]).astype(np.intp)
-    for p in range(2, W):
-        j += x >= xp[p]
-    at_end = j >= n_pts - 1
-    np.minimum(j, n_pts - 2, out=j)
-    with np.errstate(invalid="ignore"):
-        slope = (fp[1:] - fp[:-1]) / (xp[1:] - xp[:-1])                          # (W-1, N)
-    jf = j * N + np.arange(N)
-    avail = slope.ravel()[jf] * (x - xp.ravel()[jf]) + fp.ravel()[jf]
-    avail = np.where(at_end, fp[n_pts - 1, np.arange(N)], np.where(x < xp[0], fp[0], avail))
-    nd = g.d["need"].reshape(-1, N)
-    ratio = np.where(nd > 0, avail / np.maximum(nd, 1e-12), np.inf)
     rid = "physics.stepper_pullout"
     col = out._col(rid)
-    out.at_least(rid, ratio.min(axis=0), c("rules.pullout_safety_factor"))
+    out.at_least(rid, ratio, c("rules.pullout_safety_factor"))
     out.value[beyond, col] = max_rate[beyond]
     out.limit[beyond, col] = last[beyond]
     out.margin[beyond, col] = (last[beyond] - max_rate[beyond]) / last[beyond]
