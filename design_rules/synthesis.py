@@ -291,11 +291,26 @@ def _params_of(base: Params, varies, row: dict) -> Params:
         sec, _, name = k.partition(".")
         val = v[0]
         raw[sec][name] = val.tolist() if isinstance(val, (np.ndarray, np.generic)) else val
+    energy = raw["power"]["battery_energy_wh"]
+    if energy != base.power.battery_energy_wh:
+        raw["components"] = [_scaled_battery(c, energy / base.power.battery_energy_wh, base.power.battery_energy_wh)
+                             if c["name"] == "battery" else c for c in raw["components"]]
     model = raw["motor"].get("model", CUSTOM)
     if model != CUSTOM and any(not math.isclose(raw["motor"][k], v, rel_tol=1e-9)
                                for k, v in motor_params(model).items()):
         raw["motor"]["model"] = CUSTOM      # the entry's numbers at another current: the design's own numbers
     return params_from_dict(raw, "<solve>")
+
+
+def _scaled_battery(comp: dict, ratio: float, energy_wh: float) -> dict:
+    """The battery component of a design whose energy the search changed by ``ratio``: more or fewer of the same
+    cells, so its mass in proportion (what ``bought_mass_kg`` predicts) and its box by the cube root (the same
+    shape). Its source says so."""
+    k = ratio ** (1.0 / 3.0)
+    return {**comp, "mass_kg": round(comp["mass_kg"] * ratio, 6),
+            "size_mm": [round(v * k, 3) for v in comp["size_mm"]],
+            "source": f"{comp['source']}; scaled by swiftfin solve from {energy_wh:g} Wh: mass x {ratio:.4g} "
+                      f"(same cells, same specific energy), box x {k:.4g}"}
 
 
 # ----------------------------------------------------------------------------------------------- scoring
@@ -343,17 +358,34 @@ def _layout_ok(base: Params, varies, row: dict) -> bool:
     return True
 
 
+class _NoBar:
+    """What a progress bar does where nobody asked for one: nothing (``solve``'s ``bar`` is optional)."""
+
+    def __init__(self, total: int = 0, desc: str = "", unit: str = ""):
+        self.total, self.n = total, 0
+
+    def update(self, k: int = 1) -> None:
+        self.n += k
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        return None
+
+
 # ----------------------------------------------------------------------------------------------- search
 def solve(base: Params, varies, samples_per_key: int = SAMPLES_PER_KEY, exhaustive_up_to: int = 2, seed: int = 0,
-          progress=None, front_samples: int = FRONT_SAMPLES) -> SolveResult:
+          progress=None, front_samples: int = FRONT_SAMPLES, bar=None) -> SolveResult:
     """The nearest design to ``base`` that passes every kernel-free rule, changing only the keys of ``varies``
     (see the module's docstring), and the Pareto front over speed, mass and power of the passing designs among
     ``front_samples`` sampled over all the varied keys (:func:`pareto_front`; 0: none). ``progress(text)`` is
-    called as the search goes."""
+    called as the search goes; ``bar(total, desc, unit)``, if given, makes a progress bar for the front's rounds
+    (``swiftfin.progress.bar``: this layer draws nothing itself)."""
     res = _nearest(base, varies, samples_per_key, exhaustive_up_to, seed, progress)
     if front_samples:
         extra = [{c.key: c.after for c in res.changes}] if res.passes else []
-        res = replace(res, front=pareto_front(base, res.varies, front_samples, seed, extra, progress))
+        res = replace(res, front=pareto_front(base, res.varies, front_samples, seed, extra, progress, bar))
     return res
 
 
@@ -657,7 +689,7 @@ def _perturb(varies, base_vals: dict, seeds: list[dict], m: int, scale: float, r
 
 
 def pareto_front(base: Params, varies, samples: int = FRONT_SAMPLES, seed: int = 0, extra_rows=(),
-                 progress=None) -> Front:
+                 progress=None, bar=None) -> Front:
     """The Pareto front over predicted speed (up), bought mass and electrical power (down) of designs passing every
     kernel-free rule. The passing region of a failing design is often a sliver of the searched box (the paper's fish:
     none of 16 384 Sobol designs over its 11 keys passes), so the front is grown from the passing designs found:
@@ -715,13 +747,18 @@ def pareto_front(base: Params, varies, samples: int = FRONT_SAMPLES, seed: int =
             for i in bad:
                 pool_obj[i] = (math.nan, math.nan, math.nan)
 
-    add(_sample(varies, samples, seed * 1000 + 777) + [dict(r) for r in extra_rows])
-    for k in range(FRONT_ROUNDS):
-        front = [pool_rows[int(i)] for i in front_indices(FRONT_SEEDS)[0]]
-        if not front:
-            break
-        add(_perturb(varies, base_vals, front, max(1, samples // len(front)), FRONT_STEP * FRONT_SHRINK ** k, rng))
-    idx, size = front_indices(FRONT_KEPT)
+    with (bar or _NoBar)(FRONT_ROUNDS + 2, "Pareto front", "round") as rounds:
+        add(_sample(varies, samples, seed * 1000 + 777) + [dict(r) for r in extra_rows])
+        rounds.update()
+        for k in range(FRONT_ROUNDS):
+            front = [pool_rows[int(i)] for i in front_indices(FRONT_SEEDS)[0]]
+            if not front:
+                break
+            add(_perturb(varies, base_vals, front, max(1, samples // len(front)), FRONT_STEP * FRONT_SHRINK ** k,
+                         rng))
+            rounds.update()
+        idx, size = front_indices(FRONT_KEPT)
+        rounds.update(rounds.total - rounds.n)
     say(f"Pareto front: {sampled} designs sampled, {len(pool_rows)} pass the rules, {size} on the front")
     limits = _speed_limits(base, varies, [pool_rows[int(i)] for i in idx])
     pts = [FrontPoint(tuple(sorted(_changed(base_vals, pool_rows[int(i)]).items())), -pool_obj[int(i)][0],

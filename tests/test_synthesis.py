@@ -151,6 +151,25 @@ def test_bought_mass_counts_the_motors_and_scales_the_battery():
     assert m[1] - m[0] == pytest.approx(4 * (0.5 - 0.28) + battery)
 
 
+def test_the_written_design_carries_the_battery_the_front_weighed():
+    """A design whose battery energy the search changed is written with the battery the front's mass counted (the
+    same cells: mass in proportion, box by the cube root), so its build weighs what the front predicted."""
+    base = Params()
+    varies = [parse_vary("power.battery_energy_wh=4.5:50"), parse_vary("motor.mass_kg=0.1:1")]
+    row = {"power.battery_energy_wh": 13.5, "motor.mass_kg": 0.3}
+    p = _params_of(base, varies, row)
+    old = next(c for c in base.components if c.name == "battery")
+    new = next(c for c in p.components if c.name == "battery")
+    assert new.mass_kg == pytest.approx(3 * old.mass_kg)
+    assert new.size_mm == pytest.approx([v * 3 ** (1 / 3) for v in old.size_mm], abs=1e-3)
+    assert "scaled by swiftfin solve from 4.5 Wh" in new.source
+    written = p.joints.count * p.motor.mass_kg + sum(c.mass_kg for c in p.components)
+    predicted = bought_mass_kg(base, {k: np.array([v]) for k, v in row.items()}, 1)[0]
+    assert written == pytest.approx(predicted, rel=1e-6)
+    assert [c for c in _params_of(base, varies, {"motor.mass_kg": 0.3, "power.battery_energy_wh": 4.5}).components] \
+        == list(base.components)             # an unchanged energy leaves the battery as it was
+
+
 def test_narrower_ranges_say_what_still_fails():
     """With the frequency held to 0.5 Hz and up no design passes: the result says so, its rules fail in the
     per-design run too, and it fails fewer rules than the design."""
