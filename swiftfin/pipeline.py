@@ -19,7 +19,6 @@ import json
 import os
 import re
 import shutil
-import sys
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -32,6 +31,7 @@ from swiftfin import outdir
 from swiftfin.cache import FamilyCache, brep_roundtrip, record_reads, shape_from_brep
 from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
+from swiftfin.progress import bar, say
 
 LABEL_RE = re.compile(r"^[a-z][a-z0-9_]*$")
 FILE_KINDS = (".step", ".stl", ".3mf")
@@ -212,19 +212,27 @@ def build_parts(p: Params, cache: FamilyCache | None = None,
     """Every family's parts, checked and exported (not yet written)."""
     result = BuildResult(p, [])
     seen: dict[str, str] = {}
-    for name in families or tuple(FAMILIES):
-        parts, dt = run_family(name, p, cache)
-        result.family_times_s[name] = dt
-        for b in parts:
-            if b.spec.label in seen:
-                raise BuildError(f"two parts are labelled {b.spec.label!r} (families '{seen[b.spec.label]}' "
-                                 f"and '{name}')")
-            seen[b.spec.label] = name
-            result.parts.append(b)
-            if progress:
-                progress(f"  {len(result.parts):>3}  {b.spec.label:<28} {name:<7} link {b.spec.link}  "
-                         f"{b.time_s:6.2f} s{'  (cached)' if b.cached else ''}")
+    names = families or tuple(FAMILIES)
+    with bar(len(names), "parts", "family", show=progress is not None) as fam_bar:
+        for name in names:
+            _build_family(name, p, cache, result, seen, progress)
+            fam_bar.update()
     return result
+
+
+def _build_family(name: str, p: Params, cache, result: BuildResult, seen: dict, progress) -> None:
+    """One family's parts into ``result`` (``seen``: the labels so far, each with its family)."""
+    parts, dt = run_family(name, p, cache)
+    result.family_times_s[name] = dt
+    for b in parts:
+        if b.spec.label in seen:
+            raise BuildError(f"two parts are labelled {b.spec.label!r} (families '{seen[b.spec.label]}' "
+                             f"and '{name}')")
+        seen[b.spec.label] = name
+        result.parts.append(b)
+        if progress:
+            progress(f"  {len(result.parts):>3}  {b.spec.label:<28} {name:<7} link {b.spec.link}  "
+                     f"{b.time_s:6.2f} s{'  (cached)' if b.cached else ''}")
 
 
 def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=None) -> None:
@@ -494,7 +502,8 @@ def summary_table(result: BuildResult) -> str:
 
 
 def stderr_progress(msg: str) -> None:
-    print(msg, file=sys.stderr, flush=True)
+    """A line on stderr, above the progress bar if one is drawn (``swiftfin.progress``)."""
+    say(msg)
 
 
 SWIM_FREQUENCIES_HZ = (1.0, 2.0, 3.0)

@@ -34,6 +34,7 @@ from pathlib import Path
 from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.params import ParamError
 from swiftfin.outdir import write_text_atomic
+from swiftfin.progress import bar
 
 STAGES = ("check", "build")
 COLUMNS = ("design", "params_file", "params_sha256", "stage", "status", "message", "verdict", "n_pass", "n_warn",
@@ -180,6 +181,7 @@ def sweep(items: list[SweepItem], out_root: str | Path, stage: str = "check", sc
                                      key=f"swiftfin-{stage}-{it.name}-{_sha256(it.path)[:12]}", pure=False): it
                        for it in todo}
             t0 = time.perf_counter()
+            done_bar = bar(len(todo), f"sweep ({stage})", "design")
             for n, fut in enumerate(as_completed(futures), 1):
                 try:
                     r = fut.result()
@@ -191,6 +193,8 @@ def sweep(items: list[SweepItem], out_root: str | Path, stage: str = "check", sc
                 rows[r["design"]] = r
                 say(f"[{n}/{len(todo)}] {r['design']}: {r['status']}"
                     + (f", {r['verdict']}" if r["status"] == "ok" else "") + f" ({time.perf_counter() - t0:.0f} s)")
+                done_bar.update()
+            done_bar.close()
         finally:
             client.close()
             if cluster is not None:

@@ -59,6 +59,11 @@ def configure(ap) -> None:
     ap.set_defaults(func=run)
 
 
+def _say(text: str) -> None:
+    from swiftfin.progress import say
+    say(text)
+
+
 def _fmt(v) -> str:
     if isinstance(v, str):
         return v
@@ -97,9 +102,10 @@ def run(args) -> int:
     if args.build:
         from swiftfin.outdir import check_output_dir
         check_output_dir(args.build, "--build")
+    from swiftfin.progress import bar
     t0 = time.perf_counter()
     res = solve(base, varies, samples_per_key=args.samples, seed=args.seed, front_samples=args.front_samples,
-                progress=lambda text: print(f"  [{time.perf_counter() - t0:5.1f} s] {text}", file=sys.stderr))
+                progress=lambda text: _say(f"  [{time.perf_counter() - t0:5.1f} s] {text}"), bar=bar)
     wall = time.perf_counter() - t0
     name = args.params_file or "the default design"
     print(f"swiftfin solve: {name}, {len(varies)} key(s) searched, {res.evaluated} designs evaluated in {wall:.1f} s")
@@ -157,7 +163,7 @@ def _build(args, res, varies, base, out: Path) -> int:
     sys.stdout.flush()
     rows, _ = sweep(items, root, stage="build", scheduler=args.scheduler,
                     workers=args.workers or min(len(items), os.cpu_count() or 1), cache_dir=args.cache_dir,
-                    progress=lambda text: print(f"  {text}", file=sys.stderr, flush=True))
+                    progress=lambda text: _say(f"  {text}"))
     print(f"{'design':24} {'status':8} {'verdict':10} {'mass kg':>8}  failing rules / message")
     for r in rows:
         what = r["failing"] if r["status"] == "ok" else str(r["message"]).splitlines()[0][:100]

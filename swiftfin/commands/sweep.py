@@ -6,7 +6,6 @@ Exit codes: 0 every design ran and passes every rule; 1 a design fails a rule, w
 """
 from __future__ import annotations
 
-import sys
 import time
 
 
@@ -29,6 +28,7 @@ def configure(ap) -> None:
 def run(args) -> int:
     from swiftfin.core.errors import UserError
     from swiftfin.outdir import check_output_dir
+    from swiftfin.progress import say
     from swiftfin.sweep import collect_designs, sweep
     if args.workers is not None and args.workers < 1:
         raise UserError(f"--workers {args.workers}: expected 1 or more worker processes")
@@ -36,7 +36,7 @@ def run(args) -> int:
     check_output_dir(args.out)
     t0 = time.perf_counter()
     rows, ran = sweep(items, args.out, stage=args.stage, scheduler=args.scheduler, workers=args.workers,
-                      cache_dir=args.cache_dir, progress=lambda text: print(text, file=sys.stderr, flush=True))
+                      cache_dir=args.cache_dir, progress=say)
     print(f"{'design':28} {'status':8} {'verdict':14} {'fails':>5}  failing rules / message")
     for r in rows:
         what = r["failing"] if r["status"] == "ok" else str(r["message"]).splitlines()[0][:100]
