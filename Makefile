@@ -17,11 +17,14 @@ $(STAMP): pyproject.toml
 build: $(STAMP)
 	$(BIN)/swiftfin build $(PARAMS) --out $(OUT)
 
+# The suite on one worker per core (at most 4: each builds the session's shared parts), a test file per worker
+# so a file's fixtures are built once; `make test PYTEST_ARGS=-n0` runs it in one process.
+PYTEST_ARGS ?= -n auto --maxprocesses 4 --dist loadfile
 test: $(STAMP)
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest $(PYTEST_ARGS)
 
 test-fast: $(STAMP)
-	$(BIN)/python -m pytest -m "not slow"
+	$(BIN)/python -m pytest $(PYTEST_ARGS) -m "not slow"
 
 bench: $(STAMP)
 	$(BIN)/python bench/run_all.py
