@@ -90,6 +90,7 @@ COMMANDS: dict[str, Command] = {
         "swiftfin solve                                   # the default levers, -> solved.toml\n"
         "swiftfin solve my_fish.toml --vary cable.pretension_n=10:200 --vary motor.model=custom,23HS22-2804S\n"
         "swiftfin solve --vary swimming.tail_beat_frequency_hz=0.5:3 --out slower.toml --json solve.json\n"
+        "swiftfin solve --objective speed --out fastest.toml   # the front's fastest passing design instead\n"
         "swiftfin solve --json solve.json --front-plot front.png --build solved_build   # then: swiftfin report "
         "--solve solve.json"),
     "sweep": Command(

@@ -248,6 +248,34 @@ def test_the_command_draws_the_front(tmp_path, one_rule_short):
     assert r.returncode == 0 and "Pareto front" not in r.stdout
 
 
+def test_the_objective_writes_the_fronts_best_design(tmp_path, one_rule_short):
+    """--objective speed (power, mass) writes the front's best design in it, which passes the per-design rules and
+    is at least as fast as the nearest one; without a front the option is refused naming it."""
+    from swiftfin.core.params import dump_toml
+    from swiftfin.layout.design import load_design
+    (tmp_path / "d.toml").write_text(dump_toml(one_rule_short), encoding="utf-8")
+    vary = [f"cable.pretension_n=1:{0.9 * one_rule_short.cable.breaking_strength_n:.1f}",
+            "swimming.tail_beat_frequency_hz=0.2:3"]
+    args = [a for v in vary for a in ("--vary", v)] + ["--front-samples", "256"]
+    r = _cli("d.toml", *args, "--objective", "speed", "--out", "fast.toml", "--json", "fast.json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    doc = json.loads((tmp_path / "fast.json").read_text())
+    pts = doc["front"]["points"]
+    assert doc["objective"] == "speed" and doc["written"]["speed_m_s"] == max(q["speed_m_s"] for q in pts)
+    fast = load_design(tmp_path / "fast.toml")
+    assert fast.swimming.speed_m_s == pytest.approx(doc["written"]["speed_m_s"], rel=1e-9)
+    assert _failing(fast) == set()
+    assert "--objective speed" in (tmp_path / "fast.toml").read_text().splitlines()[0]
+    r = _cli("d.toml", *args, "--objective", "power", "--out", "frugal.toml", "--json", "frugal.json", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    doc = json.loads((tmp_path / "frugal.json").read_text())
+    assert doc["written"]["power_w"] == min(q["power_w"] for q in doc["front"]["points"])
+    assert _failing(load_design(tmp_path / "frugal.toml")) == set()
+    r = _cli("d.toml", *args[:4], "--front-samples", "0", "--objective", "mass", "--out", "x.toml", cwd=tmp_path)
+    assert r.returncode == 2 and "--objective mass" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "x.toml").exists()
+
+
 def test_the_command_refuses_bad_input_with_exit_2(tmp_path):
     r = _cli("--vary", "cable.pretension_n=-5:100", "--out", "s.toml", cwd=tmp_path)
     assert r.returncode == 2 and "cable.pretension_n" in r.stderr and "Traceback" not in r.stderr

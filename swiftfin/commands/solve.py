@@ -26,6 +26,10 @@ from swiftfin.layout.design import load_design
 from swiftfin.outdir import check_output_file, write_text_atomic
 
 
+#: what ``--objective`` may ask for: the nearest passing design, or the front's best in one objective
+OBJECTIVES = ("nearest", "speed", "power", "mass")
+
+
 def configure(ap) -> None:
     """Add this command's arguments to its parser (made by swiftfin.cli)."""
     from swiftfin.design_rules.synthesis import DEFAULT_VARY
@@ -42,6 +46,9 @@ def configure(ap) -> None:
     ap.add_argument("--front-samples", type=int, default=4096, metavar="N",
                     help="designs per stage of the Pareto front over speed, mass and power (default 4096; 0: no "
                          "front)")
+    ap.add_argument("--objective", choices=OBJECTIVES, default="nearest",
+                    help="which passing design to write: nearest (default: fewest and smallest changes), or the "
+                         "Pareto front's fastest (speed), least electrical power (power) or lightest (mass)")
     ap.add_argument("--front-plot", metavar="FILE.png", help="also draw the Pareto front (speed against power, "
                     "coloured by mass, marked by the rule that binds)")
     ap.add_argument("--build", metavar="DIR", default=None,
@@ -88,6 +95,9 @@ def run(args) -> int:
         check_output_file(args.json, "--json")
     if args.front_samples != 0 and not 64 <= args.front_samples <= 1 << 18:
         raise UserError(f"--front-samples {args.front_samples}: expected 0 (no front) or 64 to 262144 designs")
+    if args.objective != "nearest" and not args.front_samples:
+        raise UserError(f"--objective {args.objective}: picks from the Pareto front, and there is none with "
+                        f"--front-samples 0")
     if args.front_plot:
         if not args.front_samples:
             raise UserError("--front-plot: there is no front to draw with --front-samples 0")
@@ -125,18 +135,39 @@ def run(args) -> int:
         if args.front_plot:
             _plot_front(res, varies, args.front_plot)
             print(f"drew the front: {args.front_plot}")
+    chosen = _best_on_front(res.front, args.objective) if args.objective != "nearest" else None
     if args.json:
-        write_text_atomic(args.json, json.dumps(_as_json(res, varies, wall), indent=2) + "\n")
-    if not res.passes:
+        doc = _as_json(res, varies, wall)
+        doc["objective"] = args.objective
+        if chosen is not None:
+            doc["written"] = _point_json(chosen)
+        write_text_atomic(args.json, json.dumps(doc, indent=2) + "\n")
+    if args.objective != "nearest":
+        if chosen is None:
+            print(f"\nnothing written: no design on the Pareto front to pick the best {args.objective} from")
+            return 1
+        from swiftfin.design_rules.synthesis import _params_of
+        design = _params_of(base, varies, dict(chosen.changes))
+        what = {"speed": "the fastest", "power": "the least electrical power", "mass": "the lightest"}[args.objective]
+        print(f"\n--objective {args.objective}: {what} design on the Pareto front, {chosen.speed_m_s:.3g} m/s, "
+              f"{chosen.power_w:.3g} W, {chosen.mass_kg:.3g} kg of motors and components; binds: {chosen.binding}")
+        header = [f"# Written by `swiftfin solve --objective {args.objective}`: {what} design on the Pareto front "
+                  f"of the designs passing every kernel-free rule ({chosen.speed_m_s:.3g} m/s, "
+                  f"{chosen.power_w:.3g} W, {chosen.mass_kg:.3g} kg of motors and components).",
+                  f"# From {name}; changed: {_changes_text(chosen.changes)}"]
+        header += [f"# Note: {n}" for n in res.front.notes]
+    elif not res.passes:
         print("\nnothing written: widen the ranges or search other keys (--vary)")
         return 1
-    header = ["# Written by `swiftfin solve`: the nearest design passing every kernel-free rule.",
-              f"# From {name}; changed: " + "; ".join(f"{c.key} {_fmt(c.before)} -> {_fmt(c.after)}"
-                                                   for c in res.changes)]
-    header += [f"# Note: {n}" for n in res.notes]
+    else:
+        design = res.design
+        header = ["# Written by `swiftfin solve`: the nearest design passing every kernel-free rule.",
+                  f"# From {name}; changed: " + "; ".join(f"{c.key} {_fmt(c.before)} -> {_fmt(c.after)}"
+                                                       for c in res.changes)]
+        header += [f"# Note: {n}" for n in res.notes]
     header += ["# Build it and check the floating rules: swiftfin build THIS --out DIR, then",
                "# swiftfin check THIS --mass-properties DIR/mass_properties.json", ""]
-    write_text_atomic(out, "\n".join(header) + dump_toml(res.design), new_only=True)
+    write_text_atomic(out, "\n".join(header) + dump_toml(design), new_only=True)
     print(f"\nwrote {out}")
     if args.build:
         return _build(args, res, varies, base, out)
@@ -176,6 +207,17 @@ def _build(args, res, varies, base, out: Path) -> int:
     print(f"{out} passes the kernel-free rules but not its build: "
           + (first["failing"] if first["status"] == "ok" else str(first["message"]).splitlines()[0]))
     return 1
+
+
+def _best_on_front(front, objective: str):
+    """The front's design best in ``objective`` (speed up, power or mass down; ties to the faster, then the
+    lighter and less hungry), or None when the front is empty."""
+    if front is None or not front.points:
+        return None
+    key = {"speed": lambda q: (-q.speed_m_s, q.power_w, q.mass_kg),
+           "power": lambda q: (q.power_w, -q.speed_m_s, q.mass_kg),
+           "mass": lambda q: (q.mass_kg, -q.speed_m_s, q.power_w)}[objective]
+    return min(front.points, key=key)
 
 
 def _changes_text(changes) -> str:
@@ -225,6 +267,11 @@ def _as_json(res, varies, wall: float) -> dict:
             "front": None if res.front is None else {
                 "size": res.front.size, "sampled": res.front.sampled, "passing": res.front.passing, "refused": res.front.refused,
                 "notes": list(res.front.notes),
-                "points": [{"speed_m_s": q.speed_m_s, "mass_kg": q.mass_kg, "power_w": q.power_w,
-                            "binding": q.binding, "margin": q.margin, "limits_speed": list(q.limits_speed),
-                            "changes": {k: num(v) for k, v in q.changes}} for q in res.front.points]}}
+                "points": [_point_json(q) for q in res.front.points]}}
+
+
+def _point_json(q) -> dict:
+    """A front design as the JSON (and the report's Trade-offs section) reads it."""
+    return {"speed_m_s": q.speed_m_s, "mass_kg": q.mass_kg, "power_w": q.power_w, "binding": q.binding,
+            "margin": q.margin, "limits_speed": list(q.limits_speed),
+            "changes": {k: v if isinstance(v, str) else float(v) for k, v in q.changes}}
