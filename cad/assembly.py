@@ -53,8 +53,8 @@ from typing import Iterable
 
 import numpy as np
 
-from swiftfin.layout.geometry import (half_height_mm, hull_end_mm, joint_stations_mm, joint_stop_angles_rad,
-                        naca_half_width_mm)
+from swiftfin.layout.geometry import (inner_envelope_excess_mm, joint_stations_mm,  # noqa: F401 (re-exported)
+                                      joint_stop_angles_rad)
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 
@@ -419,21 +419,6 @@ def _pair_contact(p: Params, A: Placed, B: Placed, tol_mm: float, step_mm: float
 def _product(grids):
     import itertools
     return list(itertools.product(*grids))
-
-
-def inner_envelope_excess_mm(p: Params, vertices: np.ndarray) -> np.ndarray:
-    """How far each point lies outside the hull's inner surface [mm, approximately: normalised ellipse
-    radius excess x the local half-width]; <= 0 inside. Points ahead of the nose or behind the hull end
-    count as outside by their distance."""
-    s = -vertices[:, 0]
-    a = np.asarray(naca_half_width_mm(p, s)) - p.hull.wall_thickness_mm
-    b = np.asarray(half_height_mm(p, s)) - p.hull.wall_thickness_mm
-    ok = (a > 0) & (b > 0)
-    r = np.full(len(s), np.inf)
-    r[ok] = np.sqrt((vertices[ok, 1] / a[ok]) ** 2 + (vertices[ok, 2] / b[ok]) ** 2)
-    excess = np.where(ok, (r - 1.0) * np.minimum(a, b).clip(min=1e-9), np.inf)
-    excess = np.maximum(excess, np.maximum(-s, s - hull_end_mm(p)))
-    return excess
 
 
 INTERNAL_EXCLUDED_FAMILIES = ("hull", "fin")

@@ -55,6 +55,7 @@ from swiftfin.catalogues.motors import motor_params
 from swiftfin.core.errors import UserError
 from swiftfin.core.params import ParamError, Problem, get_key, params_from_dict, to_dict
 from swiftfin.core.schema import CUSTOM, SECTIONS, Params
+from swiftfin.layout.geometry import inner_envelope_excess_mm
 from swiftfin.design_rules.findings import Severity
 from swiftfin.design_rules.vectorised import RULE_IDS, DesignArrays, evaluate
 
@@ -307,10 +308,28 @@ def _scaled_battery(comp: dict, ratio: float, energy_wh: float) -> dict:
     cells, so its mass in proportion (what ``bought_mass_kg`` predicts) and its box by the cube root (the same
     shape). Its source says so."""
     k = ratio ** (1.0 / 3.0)
-    return {**comp, "mass_kg": round(comp["mass_kg"] * ratio, 6),
-            "size_mm": [round(v * k, 3) for v in comp["size_mm"]],
+    size = [round(v * k, 3) for v in comp["size_mm"]]
+    top = comp["z_mm"] + comp["size_mm"][2] / 2          # its top stays: the motors sit above it
+    return {**comp, "mass_kg": round(comp["mass_kg"] * ratio, 6), "size_mm": size,
+            "z_mm": round(top - size[2] / 2, 3),
             "source": f"{comp['source']}; scaled by swiftfin solve from {energy_wh:g} Wh: mass x {ratio:.4g} "
-                      f"(same cells, same specific energy), box x {k:.4g}"}
+                      f"(same cells, same specific energy), box x {k:.4g}, its top where it was"}
+
+
+def battery_fits(p: Params) -> bool:
+    """Whether the design's battery box, every corner, lies inside the hull's inner surface by the assembly
+    clearance (``layout.geometry.inner_envelope_excess_mm``, the build's own test of it): a battery the search
+    grew must still go in. No battery: True."""
+    for c in p.components:
+        if c.name != "battery":
+            continue
+        sx, sy, sz = c.size_mm
+        x = -c.station_fraction * p.body.length_mm
+        corners = np.array([(x + i * sx / 2, j * sy / 2, c.z_mm + k * sz / 2)
+                            for i in (-1, 1) for j in (-1, 1) for k in (-1, 1)])
+        if (inner_envelope_excess_mm(p, corners) > -p.print.clearance_assembly_mm).any():
+            return False
+    return True
 
 
 # ----------------------------------------------------------------------------------------------- scoring
@@ -352,10 +371,11 @@ def _sample(varies_subset, m: int, rng_seed: int) -> list[dict]:
 def _layout_ok(base: Params, varies, row: dict) -> bool:
     from swiftfin.layout.design import check_design
     try:
-        check_design(_params_of(base, varies, row), "<solve>")
+        p = _params_of(base, varies, row)
+        check_design(p, "<solve>")
     except (ParamError, UserError):
         return False
-    return True
+    return p.power.battery_energy_wh == base.power.battery_energy_wh or battery_fits(p)
 
 
 class _NoBar:

@@ -468,3 +468,18 @@ def layout_problems(p: Params) -> list[Problem]:
             out.append(Problem("swimming.tail_amplitude_m", p.swimming.tail_amplitude_m,
                                f"joint {j + 1} would need {math.degrees(th):.0f} deg of travel (>= 80 deg)"))
     return out
+
+
+def inner_envelope_excess_mm(p: Params, vertices: np.ndarray) -> np.ndarray:
+    """How far each point lies outside the hull's inner surface [mm, approximately: normalised ellipse
+    radius excess x the local half-width]; <= 0 inside. Points ahead of the nose or behind the hull end
+    count as outside by their distance."""
+    s = -vertices[:, 0]
+    a = np.asarray(naca_half_width_mm(p, s)) - p.hull.wall_thickness_mm
+    b = np.asarray(half_height_mm(p, s)) - p.hull.wall_thickness_mm
+    ok = (a > 0) & (b > 0)
+    r = np.full(len(s), np.inf)
+    r[ok] = np.sqrt((vertices[ok, 1] / a[ok]) ** 2 + (vertices[ok, 2] / b[ok]) ** 2)
+    excess = np.where(ok, (r - 1.0) * np.minimum(a, b).clip(min=1e-9), np.inf)
+    excess = np.maximum(excess, np.maximum(-s, s - hull_end_mm(p)))
+    return excess

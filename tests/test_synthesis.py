@@ -163,11 +163,26 @@ def test_the_written_design_carries_the_battery_the_front_weighed():
     assert new.mass_kg == pytest.approx(3 * old.mass_kg)
     assert new.size_mm == pytest.approx([v * 3 ** (1 / 3) for v in old.size_mm], abs=1e-3)
     assert "scaled by swiftfin solve from 4.5 Wh" in new.source
+    assert new.z_mm + new.size_mm[2] / 2 == pytest.approx(old.z_mm + old.size_mm[2] / 2, abs=1e-3)   # top stays
     written = p.joints.count * p.motor.mass_kg + sum(c.mass_kg for c in p.components)
     predicted = bought_mass_kg(base, {k: np.array([v]) for k, v in row.items()}, 1)[0]
     assert written == pytest.approx(predicted, rel=1e-6)
     assert [c for c in _params_of(base, varies, {"motor.mass_kg": 0.3, "power.battery_energy_wh": 4.5}).components] \
         == list(base.components)             # an unchanged energy leaves the battery as it was
+
+
+def test_a_battery_grown_past_the_hull_is_refused_by_the_search():
+    """The paper's battery fills its place in the head: grown by a tenth it breaks through the hull's inner surface
+    (the build's own test of it, on the box's corners), so the search refuses that design; a smaller one fits. A
+    front design with a 9.3 Wh battery was written and its build failed five assembly checks before this."""
+    from swiftfin.design_rules.synthesis import _layout_ok, battery_fits
+    base = Params()
+    varies = [parse_vary("power.battery_energy_wh=1:50")]
+    assert battery_fits(base)
+    for energy, fits in ((2.0, True), (4.5, True), (5.0, False), (9.286, False)):
+        row = {"power.battery_energy_wh": energy}
+        assert battery_fits(_params_of(base, varies, row)) is fits, energy
+        assert _layout_ok(base, varies, row) is fits, energy
 
 
 def test_narrower_ranges_say_what_still_fails():
