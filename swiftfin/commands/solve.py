@@ -24,6 +24,7 @@ from swiftfin.core.errors import UserError
 from swiftfin.core.params import dump_toml
 from swiftfin.layout.design import load_design
 from swiftfin.outdir import check_output_file, write_text_atomic
+from swiftfin.progress import bar, say
 
 
 #: what ``--objective`` may ask for: the nearest passing design, or the front's best in one objective
@@ -64,11 +65,6 @@ def configure(ap) -> None:
     ap.add_argument("--cache-dir", default=None,
                     help="rebuild cache the builds share (default: $SWIFTFIN_CACHE_DIR or .cache/swiftfin/ here)")
     ap.set_defaults(func=run)
-
-
-def _say(text: str) -> None:
-    from swiftfin.progress import say
-    say(text)
 
 
 def _fmt(v) -> str:
@@ -112,10 +108,9 @@ def run(args) -> int:
     if args.build:
         from swiftfin.outdir import check_output_dir
         check_output_dir(args.build, "--build")
-    from swiftfin.progress import bar
     t0 = time.perf_counter()
     res = solve(base, varies, samples_per_key=args.samples, seed=args.seed, front_samples=args.front_samples,
-                progress=lambda text: _say(f"  [{time.perf_counter() - t0:5.1f} s] {text}"), bar=bar)
+                progress=lambda text: say(f"  [{time.perf_counter() - t0:5.1f} s] {text}"), bar=bar)
     wall = time.perf_counter() - t0
     name = args.params_file or "the default design"
     print(f"swiftfin solve: {name}, {len(varies)} key(s) searched, {res.evaluated} designs evaluated in {wall:.1f} s")
@@ -194,7 +189,7 @@ def _build(args, res, varies, base, out: Path) -> int:
     sys.stdout.flush()
     rows, _ = sweep(items, root, stage="build", scheduler=args.scheduler,
                     workers=args.workers or min(len(items), os.cpu_count() or 1), cache_dir=args.cache_dir,
-                    progress=lambda text: _say(f"  {text}"))
+                    progress=lambda text: say(f"  {text}"))
     print(f"{'design':24} {'status':8} {'verdict':10} {'mass kg':>8}  failing rules / message")
     for r in rows:
         what = r["failing"] if r["status"] == "ok" else str(r["message"]).splitlines()[0][:100]
