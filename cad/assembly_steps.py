@@ -33,13 +33,18 @@ along their direction by :func:`explode_distance_mm`.
 """
 from __future__ import annotations
 
+import hashlib
 import json
 import math
+import os
 import re
+import tempfile
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
+from swiftfin.cad import assembly as _assembly
 from swiftfin.cad.assembly import CONTACTS, Contact, Placed, contact_reason
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
@@ -129,6 +134,7 @@ class Plan:
     steps: list[Step]
     checked_paths: int = 0           # part paths proved clear
     pair_checks: int = 0             # part pairs whose path was proved (gap or contact)
+    pairs_remembered: int = 0        # of them, proved by an earlier build (PathMemo)
     tried: int = 0                   # directions tried in all
     fastener_count: int = 0
     notes: list[str] = field(default_factory=list)
@@ -139,10 +145,6 @@ class Plan:
 
 def _opposite(d: str) -> str:
     return ("-" if d[0] == "+" else "+") + d[1]
-
-
-def _bounds(v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    return v.min(axis=0), v.max(axis=0)
 
 
 def _travel_out_mm(lo: np.ndarray, hi: np.ndarray, u: np.ndarray, lo_all: np.ndarray, hi_all: np.ndarray) -> float:
@@ -173,45 +175,110 @@ def _window(lo, hi, u, qlo, qhi, margin: float) -> tuple[float, float] | None:
     return t0, t1
 
 
-def path_blocker(p: Params, moving: list[Placed], direction: str, still: list[Placed],
-                 contacts: tuple[Contact, ...] = CONTACTS) -> tuple[Blocked | None, float, int]:
-    """Take ``moving`` (parts that move together) out along ``direction`` past ``still``: (the first block, or None;
-    the travel to clear everything; the pairs proved). See the module docstring."""
-    u = np.asarray(AXES[direction], float)
-    vs = np.vstack([m.vertices for m in moving])
-    lo, hi = _bounds(vs)
-    if not still:
-        return None, CLEAR_MARGIN_MM, 0
-    all_lo = np.min([_bounds(q.vertices)[0] for q in still], axis=0)
-    all_hi = np.max([_bounds(q.vertices)[1] for q in still], axis=0)
-    travel = _travel_out_mm(lo, hi, u, all_lo, all_hi)
+def _pair_path(p: Params, m: Placed, q: Placed, u: np.ndarray, t0: float, t1: float,
+               contact: bool) -> tuple[float, float] | None:
+    """Where ``m`` moved along ``u`` from ``t0`` to ``t1`` first blocks on ``q``: (travel, the gap left or the overlap
+    volume), or None when the way is clear. See the module docstring."""
     tol = p.export.mesh_tolerance_mm
     step = p.print.clearance_sliding_mm
+    if contact:
+        allowed = 2.0 * tol * min(m.manifold.surface_area(), q.manifold.surface_area())
+        n = max(1, math.ceil((t1 - t0) / step))
+        for t in np.linspace(max(t0, step), max(t1, step), n + 1):
+            vol = (m.manifold.translate(tuple(float(c) for c in t * u)) ^ q.manifold).volume()
+            if vol > allowed:
+                return float(t), float(vol)
+        return None
+    t = t0
+    search = 5.0
+    while t <= t1:
+        g = m.manifold.translate(tuple(float(c) for c in t * u)).min_gap(q.manifold, search)
+        if g < MIN_PASSING_GAP_MM:
+            return float(t), float(g)
+        t += g - MIN_PASSING_GAP_MM / 2 if g < search else search - MIN_PASSING_GAP_MM / 2
+    return None
+
+
+_SOURCE_DIGEST = hashlib.sha256(Path(__file__).read_bytes() + Path(_assembly.__file__).read_bytes()).digest()
+
+
+def _path_key(p: Params, m: Placed, q: Placed, direction: str, contact: bool) -> str:
+    """Everything one pair's way-in result depends on: both meshes (the moving part's first), the direction, whether
+    the pair is a declared contact, the tolerances, and the source of this module and of cad/assembly.py. The
+    travel window is the two meshes' bounds along the direction, so the digests cover it."""
+    h = hashlib.sha256(_SOURCE_DIGEST)
+    h.update(json.dumps([m.digest, q.digest, direction, contact, p.export.mesh_tolerance_mm,
+                         p.print.clearance_sliding_mm, MIN_PASSING_GAP_MM]).encode())
+    return h.hexdigest()
+
+
+class PathMemo:
+    """Memo of each pair's way-in result (a folder of small JSON files named by :func:`_path_key`: ``null`` for a
+    clear way, ``[travel, measure]`` for a block), so that a rebuild proves again only the ways in where one of the
+    two parts changed (a fin-span change: the fin's). Each file is written whole and renamed into place, so
+    builds sharing a cache never read half a result."""
+
+    def __init__(self, folder: str | Path):
+        self.folder = Path(folder)
+        self.hits = 0
+
+    def get(self, key: str):
+        """The stored result, or :data:`MISSING`."""
+        try:
+            value = json.loads((self.folder / key[:2] / key).read_text())
+        except (OSError, ValueError):
+            return MISSING
+        self.hits += 1
+        return None if value is None else (float(value[0]), float(value[1]))
+
+    def put(self, key: str, value: tuple[float, float] | None) -> None:
+        d = self.folder / key[:2]
+        d.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=d, prefix=".tmp-")
+        with os.fdopen(fd, "w") as fh:
+            json.dump(None if value is None else list(value), fh)
+        os.replace(tmp, d / key)
+
+
+MISSING = object()
+
+
+def path_blocker(p: Params, moving: list[Placed], direction: str, still: list[Placed],
+                 contacts: tuple[Contact, ...] = CONTACTS, memo: PathMemo | None = None
+                 ) -> tuple[Blocked | None, float, int]:
+    """Take ``moving`` (parts that move together) out along ``direction`` past ``still``: (the first block, or None;
+    the travel to clear everything; the pairs proved, remembered ones included). See the module docstring.
+    ``memo`` keeps each pair's result across builds (:class:`PathMemo`)."""
+    u = np.asarray(AXES[direction], float)
+    lo = np.min([m.bounds[0] for m in moving], axis=0)
+    hi = np.max([m.bounds[1] for m in moving], axis=0)
+    if not still:
+        return None, CLEAR_MARGIN_MM, 0
+    all_lo = np.min([q.bounds[0] for q in still], axis=0)
+    all_hi = np.max([q.bounds[1] for q in still], axis=0)
+    travel = _travel_out_mm(lo, hi, u, all_lo, all_hi)
+    tol = p.export.mesh_tolerance_mm
     pairs = 0
     for m in moving:
-        mlo, mhi = _bounds(m.vertices)
+        mlo, mhi = m.bounds
         for q in still:
-            qlo, qhi = _bounds(q.vertices)
+            qlo, qhi = q.bounds
             win = _window(mlo, mhi, u, qlo, qhi, MIN_PASSING_GAP_MM + tol)
             if win is None or win[0] > travel:
                 continue
             pairs += 1
+            # the window ends where m's box leaves q's by the passing gap: inside the travel, which clears every
+            # box by CLEAR_MARGIN_MM, so the result is the pair's own and can be remembered by the two meshes
             t0, t1 = win[0], min(win[1], travel)
-            if contact_reason(m, q, contacts, p) is not None:
-                allowed = 2.0 * tol * min(m.manifold.surface_area(), q.manifold.surface_area())
-                n = max(1, math.ceil((t1 - t0) / step))
-                for t in np.linspace(max(t0, step), max(t1, step), n + 1):
-                    vol = (m.manifold.translate(tuple(float(c) for c in t * u)) ^ q.manifold).volume()
-                    if vol > allowed:
-                        return Blocked(m.label, direction, q.label, float(t), float(vol), True), travel, pairs
-                continue
-            t = t0
-            search = 5.0
-            while t <= t1:
-                g = m.manifold.translate(tuple(float(c) for c in t * u)).min_gap(q.manifold, search)
-                if g < MIN_PASSING_GAP_MM:
-                    return Blocked(m.label, direction, q.label, float(t), float(g), False), travel, pairs
-                t += g - MIN_PASSING_GAP_MM / 2 if g < search else search - MIN_PASSING_GAP_MM / 2
+            contact = contact_reason(m, q, contacts, p) is not None
+            key = _path_key(p, m, q, direction, contact) if memo is not None and t1 == win[1] else None
+            res = memo.get(key) if key is not None else MISSING
+            if res is MISSING:
+                res = _pair_path(p, m, q, u, t0, t1, contact)
+                if key is not None:
+                    memo.put(key, res)
+            if res is not None:
+                return Blocked(m.label, direction, q.label, res[0], res[1], contact), travel, pairs
     return None, travel, pairs
 
 
@@ -235,10 +302,12 @@ def _rule(label: str) -> int:
 
 
 def plan_steps(p: Params, parts: list[Placed], fasteners=(), glued: dict[str, str] | None = None,
-               threads: bool = True, contacts: tuple[Contact, ...] = CONTACTS) -> Plan:
+               threads: bool = True, contacts: tuple[Contact, ...] = CONTACTS, memo: PathMemo | None = None
+               ) -> Plan:
     """The assembly steps of ``parts`` (rigid, at rest), with ``fasteners`` (:class:`Fastener` records) assigned
     to the step that places the last of their parts, and (``threads``) the cabling steps of :func:`_with_threading`.
-    Raises BuildError when no part still in place can be taken out (naming each one's first blocker)."""
+    Raises BuildError when no part still in place can be taken out (naming each one's first blocker). ``memo``
+    remembers each pair's way-in result across builds (:class:`PathMemo`)."""
     glued = dict(glued or {})
     by_label = {q.label: q for q in parts}
     glued.update(bench_hosts(list(by_label)))
@@ -254,6 +323,7 @@ def plan_steps(p: Params, parts: list[Placed], fasteners=(), glued: dict[str, st
         for q in f.parts:
             holders.setdefault(q, []).append(f)
     present = set(by_label)
+    hits0 = memo.hits if memo is not None else 0
     removed: list[tuple[str, str, float]] = []
     plan = Plan([])
     while units:
@@ -273,7 +343,7 @@ def plan_steps(p: Params, parts: list[Placed], fasteners=(), glued: dict[str, st
             mine = []
             for d in list(prefer) + [d for d in AXES if d not in prefer]:
                 plan.tried += 1
-                blocked, travel, pairs = path_blocker(p, moving, d, still, contacts)
+                blocked, travel, pairs = path_blocker(p, moving, d, still, contacts, memo)
                 plan.pair_checks += pairs
                 if blocked is None:
                     found = (d, travel)
@@ -327,6 +397,7 @@ def plan_steps(p: Params, parts: list[Placed], fasteners=(), glued: dict[str, st
     plan.steps = [Step(s.number, s.text, s.parts, s.direction, s.travel_mm, tuple(sorted(driven.get(s.number, ()))),
                        s.threads, explode_distance_mm(s, by_label)) for s in steps]
     plan.fastener_count = sum(len(v) for v in driven.values())
+    plan.pairs_remembered = memo.hits - hits0 if memo is not None else 0
     return plan
 
 

@@ -61,6 +61,7 @@ contains the true cylinder, so a gap measured on it is never larger than the rea
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -259,8 +260,10 @@ def _suffix(k: int, n: int) -> str:
     return "" if n == 1 else "_" + "abcdefghijklmnopqrstuvwxyz"[k]
 
 
+@functools.lru_cache(maxsize=64)
 def tube_runs(p: Params) -> tuple[TubeRun, ...]:
-    """Every PTFE tube of the design (see the module docstring): guide channels, then bulkhead holes."""
+    """Every PTFE tube of the design (see the module docstring): guide channels, then bulkhead holes. Memoised on
+    the params, as :func:`swiftfin.layout.geometry.cable_routes` (a build asks for them five times, 0.3 s each)."""
     g = p.guides
     out = []
     for b in guide_blocks(p):
@@ -525,7 +528,7 @@ def _ring_fill(t: TubeRun, end: int, depth_mm: float, solid: list[Placed]) -> tu
     for part in solid:
         if part.link != t.link:
             continue
-        plo, phi = part.vertices.min(axis=0), part.vertices.max(axis=0)
+        plo, phi = part.bounds
         if np.any(plo > hi) or np.any(phi < lo):
             continue
         filled += (part.manifold ^ ring).volume()

@@ -268,8 +268,8 @@ def unfastened_contacts(p: Params, placed, fasteners, glued=GLUED) -> list[str]:
             reason = contact_reason(a, b, p=p)
             if reason is None:
                 continue
-            lo = np.maximum(a.vertices.min(axis=0), b.vertices.min(axis=0))
-            hi = np.minimum(a.vertices.max(axis=0), b.vertices.max(axis=0))
+            lo = np.maximum(a.bounds[0], b.bounds[0])
+            hi = np.minimum(a.bounds[1], b.bounds[1])
             if np.any(lo - hi > gap):
                 continue
             if a.manifold.min_gap(b.manifold, gap) > gap:

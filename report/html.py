@@ -243,9 +243,16 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
         from swiftfin.report.render import png_bytes, render
         from swiftfin.report.robot import read_robot, robot_items
 
+        from swiftfin.exports.parallel import memoized
+
         progress("rendering the robot's collision shapes, joint axes and link frames")
-        robot_pic = png_bytes(render(robot_items(read_robot(robot_dir)), 1200, 430, azimuth_deg=62,
-                                     elevation_deg=22))
+        robot = read_robot(robot_dir)
+        drawn = hashlib.sha256((robot_dir / "swiftfin.urdf").read_bytes())     # what the picture shows
+        for path in sorted({c for lk in robot["links"].values() for c in lk["collisions"]}):
+            drawn.update(path.read_bytes())
+        robot_pic = memoized(memo, "robot_picture", (), [drawn.hexdigest()],
+                             lambda: png_bytes(render(robot_items(robot), 1200, 430, azimuth_deg=62,
+                                                      elevation_deg=22)))
     progress("writing the page")
     body = {
         "overview": overview_section(params, rparts, mass_properties, findings, audit, params_name),

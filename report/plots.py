@@ -65,6 +65,7 @@ def _line_points_px(ax, per_segment: int = 24) -> np.ndarray:
     """Every drawn line of ``ax`` as points in display pixels, densified along each segment (so a line that
     crosses a box without a vertex in it is still seen)."""
     pts = []
+    t = np.linspace(0.0, 1.0, per_segment)[None, :, None]
     for line in ax.get_lines():
         if not line.get_visible():
             continue
@@ -72,9 +73,9 @@ def _line_points_px(ax, per_segment: int = 24) -> np.ndarray:
         xy = xy[np.all(np.isfinite(xy), axis=1)]
         if len(xy) == 1:
             pts.append(xy)
-        for a, b in zip(xy[:-1], xy[1:]):
-            t = np.linspace(0.0, 1.0, per_segment)[:, None]
-            pts.append(a + t * (b - a))
+        elif len(xy) > 1:      # every segment a to b at per_segment points, a and b included
+            a, b = xy[:-1, None, :], xy[1:, None, :]
+            pts.append((a + t * (b - a)).reshape(-1, 2))
     return np.concatenate(pts) if pts else np.zeros((0, 2))
 
 
@@ -82,21 +83,24 @@ def _boxes_meet(a, b) -> bool:
     return a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1
 
 
-def _legend_conflicts(fig, ax, renderer) -> int:
+def _fixed_boxes(fig, ax, renderer) -> list:
+    """What a legend of ``ax`` must not cover besides its lines: every other axes with its labels, and the
+    axis labels of ``ax`` (none of them moves with the legend)."""
+    boxes = [other.get_tightbbox(renderer) for other in fig.axes if other is not ax]
+    boxes += [axis.get_tightbbox(renderer) for axis in (ax.xaxis, ax.yaxis)]
+    return [b for b in boxes if b is not None]
+
+
+def _legend_conflicts(fig, ax, renderer, fixed: list | None = None, pts: np.ndarray | None = None) -> int:
     """How much the legend of ``ax`` covers: plotted points under it, plus one for each other axes (with its
-    labels) or own axis label it meets."""
+    labels) or own axis label it meets. ``fixed`` (:func:`_fixed_boxes`) and ``pts`` (:func:`_line_points_px`),
+    when given, are those of ``ax`` already measured."""
     leg = ax.get_legend()
     box = leg.get_window_extent(renderer)
-    pts = _line_points_px(ax)
+    pts = _line_points_px(ax) if pts is None else pts
     n = int(((pts[:, 0] > box.x0) & (pts[:, 0] < box.x1) & (pts[:, 1] > box.y0) & (pts[:, 1] < box.y1)).sum())
-    for other in fig.axes:
-        if other is not ax and _boxes_meet(box, other.get_tightbbox(renderer)):
-            n += 1
-    for axis in (ax.xaxis, ax.yaxis):
-        tb = axis.get_tightbbox(renderer)
-        if tb is not None and _boxes_meet(box, tb):
-            n += 1
-    return n
+    fixed = _fixed_boxes(fig, ax, renderer) if fixed is None else fixed
+    return n + sum(_boxes_meet(box, b) for b in fixed)
 
 
 def legend_overlaps(fig) -> list[tuple[str, int]]:
@@ -139,10 +143,10 @@ def _place_legends(fig) -> None:
                        dict(loc="upper left", bbox_to_anchor=below, bbox_transform=fig.transFigure,
                             borderaxespad=0.0, ncol=max(ncol, 2))]
         best = None
+        fixed, pts = _fixed_boxes(fig, ax, renderer), _line_points_px(ax)
         for c in candidates:
-            ax.legend(**kw, **c)
-            fig.canvas.draw()
-            n = _legend_conflicts(fig, ax, fig.canvas.get_renderer())
+            ax.legend(**kw, **c)       # the legend lays itself out for its extent: no draw of the figure needed
+            n = _legend_conflicts(fig, ax, renderer, fixed, pts)
             if best is None or n < best[0]:
                 best = (n, c)
             if n == 0:

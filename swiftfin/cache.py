@@ -20,6 +20,8 @@ overrides it)::
     <family>/<source key>/<entry key>/entry.pkl      PartSpecs without solids, meshes, exported bytes
     <family>/<source key>/<entry key>/<label>.brep   each solid (OpenCascade BREP, no triangulation)
     assembly-pairs/<xx>/<pair key>                   assembly-check pairs that passed (cad/assembly.py)
+    assembly-paths/<xx>/<path key>                   each pair's way-in result of the assembly steps
+                                                     (cad/assembly_steps.py)
 
 Storing an entry deletes the family's entries made by other versions of its source (unreachable).
 

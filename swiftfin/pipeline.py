@@ -119,6 +119,8 @@ STAGE_MODULES: dict[str, tuple[str, ...]] = {
     "picture": ("swiftfin.report.render",),
     "view_mesh": ("swiftfin.report.render",),
     "assembly_steps": ("swiftfin.cad.assembly_steps", "swiftfin.cad.fastening"),
+    "assembly_step_file": ("swiftfin.cad.assembly", "swiftfin.exports.files"),
+    "robot_picture": ("swiftfin.report.render", "swiftfin.report.robot"),
 }
 
 
@@ -295,7 +297,7 @@ def _built_fasteners(result: BuildResult, placed) -> tuple[list, dict[str, str]]
 def plan_assembly(result: BuildResult, placed=None, cache: FamilyCache | None = None, progress=None):
     """The assembly steps of the built parts (cad/assembly_steps.py): each part's way in proved clear of what is
     already placed, the fasteners and the cabling in order. BuildError when no order puts the parts together."""
-    from swiftfin.cad.assembly_steps import plan_steps
+    from swiftfin.cad.assembly_steps import PathMemo, plan_steps
     from swiftfin.core.params import to_dict
 
     placed = placed_parts(result) if placed is None else placed
@@ -303,9 +305,10 @@ def plan_assembly(result: BuildResult, placed=None, cache: FamilyCache | None = 
         progress("  planning the assembly steps (each part's way in, proved clear of what is already placed) ...")
     fasteners, glued = _built_fasteners(result, placed)
     memo = stage_memo(result, cache)
+    paths = PathMemo(cache.root / "assembly-paths") if cache is not None else None
     return memo("assembly_steps", tuple(sorted(q.label for q in placed)),
                 [to_dict(result.params), sorted(f.label for f in fasteners)],
-                lambda: plan_steps(result.params, placed, fasteners, glued))
+                lambda: plan_steps(result.params, placed, fasteners, glued, memo=paths))
 
 
 def check_fasteners_built(result: BuildResult, placed=None):
@@ -347,7 +350,8 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
             files.append({"path": rel, "sha256": sha256_bytes(data), "bytes": len(data)})
             entry["files"].append(rel)
         parts.append(entry)
-    data = assembly_step(result)
+    labels = tuple(b.spec.label for b in result.parts)
+    data = stage_memo(result, cache)("assembly_step_file", labels, [list(labels)], lambda: assembly_step(result))
     (folder / "assembly.step").write_bytes(data)
     files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
     files += write_robot_and_report(result, folder, params_file, progress, cache, ros2_package=ros2_package,
@@ -494,9 +498,10 @@ def summary_table(result: BuildResult) -> str:
     plan = result.assembly_plan
     if plan is not None:
         parts = sum(len(s.parts) for s in plan.steps)
+        rem = f", {plan.pairs_remembered} remembered from earlier builds" if plan.pairs_remembered else ""
         lines.append(f"assembly steps: {len(plan.steps)} steps put in {parts} parts and {plan.fastener_count} "
                      f"fasteners; {plan.checked_paths} ways in proved clear of the parts already placed "
-                     f"({plan.pair_checks} part pairs along them); {len(plan.notes)} part(s) not along their "
+                     f"({plan.pair_checks} part pairs along them{rem}); {len(plan.notes)} part(s) not along their "
                      f"family's usual direction (see report.html)")
     return "\n".join(lines)
 

@@ -10,11 +10,12 @@ import numpy as np
 import pytest
 
 from swiftfin.cad.assembly import Contact, Placed
-from swiftfin.cad.assembly_steps import AXES, path_blocker, plan_steps, steps_json
+from swiftfin.cad.assembly_steps import AXES, PathMemo, path_blocker, plan_steps, steps_json
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 from swiftfin.exports.files import tessellate
 from swiftfin.layout.fastening import Fastener
+from tests.conftest import session_cache_dir
 
 P = Params()
 NO_CONTACTS: tuple[Contact, ...] = ()
@@ -104,22 +105,66 @@ def test_a_glued_part_goes_in_with_its_host():
     assert [s.parts for s in plan.steps] == [("hull_body_1_lower", "flotation_1")]
 
 
+def _plan_record(plan):
+    return [(s.parts, s.direction, s.travel_mm, s.fasteners, s.threads) for s in plan.steps], plan.notes
+
+
+def test_remembered_ways_in_give_the_same_plan_and_a_moved_part_is_proved_again(tmp_path):
+    """A memo of each pair's result (PathMemo): planned again with it, nothing is proved anew and the plan is the
+    same; with the battery moved (a new mesh), only the pairs with the battery are proved again, and a battery moved
+    into the cup's wall is still refused (its block comes from a fresh proof, not from the memo)."""
+    cup_p = placed("hull_head_front_lower", cup())
+    lid = placed("hull_head_front_upper", box(-20, 20, -20, 20, 30.5, 33))
+    side = placed("electronics", box(8, 15, -5, 5, 3.5, 8))
+    peg = placed("battery", box(-5, 5, -5, 5, 3.5, 25))
+    fresh = plan_steps(P, [cup_p, peg, side, lid], threads=False, contacts=NO_CONTACTS)
+    memo = PathMemo(tmp_path / "paths")
+    first = plan_steps(P, [cup_p, peg, side, lid], threads=False, contacts=NO_CONTACTS, memo=memo)
+    assert first.pairs_remembered == 0 and _plan_record(first) == _plan_record(fresh)
+    again = plan_steps(P, [cup_p, peg, side, lid], threads=False, contacts=NO_CONTACTS, memo=memo)
+    assert _plan_record(again) == _plan_record(fresh)
+    assert again.pairs_remembered == again.pair_checks == first.pair_checks >= 2
+    moved = placed("battery", box(-4, 6, -5, 5, 3.5, 25))
+    other = plan_steps(P, [cup_p, moved, side, lid], threads=False, contacts=NO_CONTACTS, memo=memo)
+    assert 0 < other.pairs_remembered < other.pair_checks
+    assert other.order() == fresh.order()
+    stuck = placed("battery", box(-22, -12, -5, 5, 3.5, 25))       # through the cup's wall at x = -20..-17
+    with pytest.raises(BuildError, match="no part still in place can be taken out"):
+        plan_steps(P, [cup_p, stuck, side, lid], threads=False, contacts=NO_CONTACTS, memo=memo)
+
+
 # --------------------------------------------------------------------------------------------- the default design
 @pytest.fixture(scope="module")
 def default_plan(default_params, tmp_path_factory):
+    """The default design's plan, proved with a fresh memo of the pairs' ways in (the build's PathMemo)."""
     from swiftfin.cache import FamilyCache
-    from swiftfin.pipeline import build_parts, placed_parts, plan_assembly
+    from swiftfin.pipeline import build_parts, placed_parts
 
-    result = build_parts(default_params, FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
+    result = build_parts(default_params, FamilyCache(session_cache_dir(tmp_path_factory)))
     placed = placed_parts(result)
-    return result, placed, plan_assembly(result, placed)
+    memo = PathMemo(tmp_path_factory.mktemp("assembly-paths"))
+    return result, placed, plan_steps(default_params, placed, *_fasteners_and_glue(result, placed), memo=memo), memo
+
+
+def _fasteners_and_glue(result, placed):
+    from swiftfin.pipeline import _built_fasteners
+    return _built_fasteners(result, placed)
+
+
+def test_the_default_plan_planned_again_from_its_memo_is_the_same(default_plan, default_params):
+    """Planned again with the memo of the first planning (what a rebuild after a change elsewhere does): every
+    pair's way in comes from the memo and the steps are the same, step for step."""
+    result, placed, plan, memo = default_plan
+    again = plan_steps(default_params, placed, *_fasteners_and_glue(result, placed), memo=memo)
+    assert again.pairs_remembered == again.pair_checks == plan.pair_checks > 100
+    assert _plan_record(again) == _plan_record(plan)
 
 
 def test_every_part_fastener_cable_and_tube_of_the_default_design_goes_in_once(default_plan, default_params):
     from swiftfin.cad.cables import tube_runs
     from swiftfin.cad.fastening import all_fasteners
 
-    result, _, plan = default_plan
+    result, _, plan, _ = default_plan
     parts = [q for s in plan.steps for q in s.parts]
     assert sorted(parts) == sorted(b.spec.label for b in result.parts)
     fast = [f for s in plan.steps for f in s.fasteners]
@@ -140,7 +185,7 @@ def test_the_default_plan_honours_every_fasteners_precedence(default_plan, defau
     part listed in its installed_after goes on in a later step."""
     from swiftfin.cad.fastening import all_fasteners
 
-    _, _, plan = default_plan
+    _, _, plan, _ = default_plan
     at = {q: s.number for s in plan.steps for q in s.parts}
     driven = {f: s.number for s in plan.steps for f in s.fasteners}
     for f in all_fasteners(default_params):
@@ -159,7 +204,7 @@ def test_each_way_in_is_clear_when_swept_by_an_independent_sampler(default_plan,
     allowance."""
     from swiftfin.cad.assembly import CONTACTS, contact_reason
 
-    _, parts, plan = default_plan
+    _, parts, plan, _ = default_plan
     by = {q.label: q for q in parts}
     tol = default_params.export.mesh_tolerance_mm
     before: list[str] = []
