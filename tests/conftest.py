@@ -12,6 +12,15 @@ SHARED = ROOT.parent / "shared"
 DEFAULT_DESIGN = ROOT / "swiftfin.toml"
 
 
+def session_cache_dir(tmp_path_factory) -> Path:
+    """The rebuild cache every test of the run shares (``swiftfin-cache``). Under pytest-xdist each worker has
+    its own base folder, all in one folder of the run: the cache sits there, so a family, a stage result or a
+    proved assembly pair one worker stored is read by the others instead of being built again (the cache writes
+    each entry whole and renames it into place, so workers never read half an entry)."""
+    base = tmp_path_factory.getbasetemp()
+    return (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "swiftfin-cache"
+
+
 def require_tool(name: str, why: str) -> str:
     """Path of an external tool, or skip with a clear reason (fail in CI, where it must be installed)."""
     path = shutil.which(name)

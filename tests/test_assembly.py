@@ -13,6 +13,7 @@ from swiftfin.layout.geometry import half_height_mm, joint_stations_mm, joint_st
 from swiftfin.exports.files import tessellate
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
+from tests.conftest import session_cache_dir
 
 P = Params()  # the schema defaults are the default design
 
@@ -161,7 +162,7 @@ def test_default_design_passes_the_assembly_checks(default_params, tmp_path_fact
     from swiftfin.cache import FamilyCache
     from swiftfin.pipeline import build_parts, check_built
 
-    result = build_parts(default_params, FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
+    result = build_parts(default_params, FamilyCache(session_cache_dir(tmp_path_factory)))
     check_built(result)  # raises BuildError naming the parts and the joint angles
     stats = result.assembly_stats
     n = len(result.parts)

@@ -12,14 +12,14 @@ from swiftfin.exports.manifest import verify_manifest
 from swiftfin import pipeline
 from swiftfin.cli import main
 from swiftfin.core.params import dump_toml
-from tests.conftest import DEFAULT_DESIGN
+from tests.conftest import DEFAULT_DESIGN, session_cache_dir
 
 
 @pytest.fixture
 def env(tmp_path, monkeypatch, tmp_path_factory):
     """Work in tmp_path with the session's shared cache."""
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setenv("SWIFTFIN_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
+    monkeypatch.setenv("SWIFTFIN_CACHE_DIR", str(session_cache_dir(tmp_path_factory)))
     return tmp_path
 
 

@@ -11,6 +11,7 @@ from swiftfin.cache import FamilyCache, RecordingParams, module_closure, record_
 from swiftfin.core.params import replace_key
 from swiftfin.pipeline import build_parts, run_family
 from swiftfin.core.schema import Params, Spool
+from tests.conftest import session_cache_dir
 
 
 # --------------------------------------------------------------------------------------------- the proxy
@@ -69,7 +70,7 @@ def test_source_hash_changes_with_an_imported_module(tmp_path, monkeypatch):
 # --------------------------------------------------------------------------------------------- real families
 @pytest.fixture(scope="module")
 def shared_cache(tmp_path_factory):
-    return FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache")
+    return FamilyCache(session_cache_dir(tmp_path_factory))
 
 
 def _by_label(result):

@@ -13,6 +13,7 @@ import pytest
 from swiftfin.core.params import dump_toml
 from swiftfin.design_rules.vectorised import seeded_designs
 from swiftfin.sweep import COLUMNS, SweepItem, collect_designs, run_design, sweep
+from tests.conftest import session_cache_dir
 
 N_DESIGNS = 20
 
@@ -117,7 +118,7 @@ def test_a_build_sweep_builds_each_design_into_its_own_folder(tmp_path, tmp_path
     """The shipped design, built as a task: its folder has the build's manifest, the row carries the build's mass
     and every rule with it (the floating ones evaluated), and a second run skips it. The build shares the session's
     rebuild cache with tests/test_build.py (a few seconds when that ran first, a cold build alone)."""
-    cache = str(tmp_path_factory.getbasetemp() / "swiftfin-cache")
+    cache = str(session_cache_dir(tmp_path_factory))
     from swiftfin.layout.design import default_design_path
     d = tmp_path / "designs"
     d.mkdir()

@@ -18,7 +18,7 @@ from swiftfin.exports.manifest import verify_manifest
 from swiftfin.cache import FamilyCache
 from swiftfin.pipeline import build_parts, write_outputs
 from swiftfin.core.schema import Params
-from tests.conftest import DEFAULT_DESIGN
+from tests.conftest import DEFAULT_DESIGN, session_cache_dir
 from tests.golden_check import precise_volume_mm3
 
 F32_SLACK_MM = 1e-4  # float32 rounding of STL/3MF coordinates (< 500 mm x 2^-24 = 3e-5 mm)
@@ -117,7 +117,7 @@ def test_step_is_in_millimetres(tmp_path):
 @pytest.fixture(scope="module")
 def default_build(default_params, tmp_path_factory):
     """Every part of the default design, exported and written (the assembly checks are test_assembly's)."""
-    cache = FamilyCache(tmp_path_factory.getbasetemp() / "swiftfin-cache")
+    cache = FamilyCache(session_cache_dir(tmp_path_factory))
     result = build_parts(default_params, cache)
     folder = tmp_path_factory.mktemp("default-build")
     write_outputs(result, folder, DEFAULT_DESIGN)

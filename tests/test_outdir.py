@@ -16,6 +16,7 @@ from swiftfin.cad import registry
 from swiftfin.cli import main
 from swiftfin.core.params import dump_toml
 from swiftfin.exports.manifest import verify_manifest
+from tests.conftest import session_cache_dir
 
 
 @pytest.fixture
@@ -23,7 +24,7 @@ def env(tmp_path, monkeypatch, tmp_path_factory):
     """tmp_path as the working folder, the session's cache, and a fin-only "design" (the file mechanics; the
     robot, mass properties and report of the real design are checked in tests/test_build.py)."""
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setenv("SWIFTFIN_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
+    monkeypatch.setenv("SWIFTFIN_CACHE_DIR", str(session_cache_dir(tmp_path_factory)))
     monkeypatch.setattr(registry, "FAMILIES", {"fin": registry.FAMILIES["fin"]})
     monkeypatch.setattr(pipeline, "FAMILIES", registry.FAMILIES)
     monkeypatch.setattr(pipeline, "write_robot_and_report", lambda *a, **k: [])

@@ -17,7 +17,7 @@ from swiftfin.exports import robot as robot_export
 from swiftfin.exports.manifest import make_manifest, manifest_text, sha256_bytes, verify_manifest
 from swiftfin.exports.robot import write_robot
 from swiftfin.exports.ros_package import DEFAULT_PACKAGE, package_version, ros_package_files
-from tests.conftest import require_module, require_tool
+from tests.conftest import require_module, require_tool, session_cache_dir
 from tests.robot_helpers import mini_parts
 
 PKG = DEFAULT_PACKAGE
@@ -186,7 +186,7 @@ def env(tmp_path, monkeypatch, tmp_path_factory):
     robot writer is replaced by a recorder (the real one is checked above on the mini design) and the report by
     a stub."""
     monkeypatch.chdir(tmp_path)
-    monkeypatch.setenv("SWIFTFIN_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "swiftfin-cache"))
+    monkeypatch.setenv("SWIFTFIN_CACHE_DIR", str(session_cache_dir(tmp_path_factory)))
     monkeypatch.setattr(registry, "FAMILIES", {"fin": registry.FAMILIES["fin"]})
     monkeypatch.setattr(pipeline, "FAMILIES", registry.FAMILIES)
     calls = []

@@ -16,6 +16,7 @@ from swiftfin.design_rules import RuleContext, Severity, run_rules
 from swiftfin.design_rules.synthesis import (DEFAULT_VARY, SPEED_PROBE, _params_of, bought_mass_kg, pareto_mask,
                                               parse_vary, solve)
 from swiftfin.design_rules.vectorised import evaluate, seeded_designs
+from tests.conftest import session_cache_dir
 
 #: the default levers with the frequency held to 0.5 Hz and up: no design passes there
 NARROW = tuple(v if not v.startswith("swimming.tail_beat_frequency_hz") else "swimming.tail_beat_frequency_hz=0.5:3"
@@ -311,7 +312,7 @@ def test_the_command_builds_what_it_writes_and_checks_it_afloat(tmp_path, tmp_pa
     pass, exit 0; the row is in DIR/results.csv."""
     import csv
     from swiftfin.cli import main
-    cache = tmp_path_factory.getbasetemp() / "swiftfin-cache"
+    cache = session_cache_dir(tmp_path_factory)
     varies = ["cable.youngs_modulus_gpa=1:120", "swimming.tail_beat_frequency_hz=0.2:3", "motor.phase_current_a=0.3:1.5",
               "print.material=PLA,PETG,ASA"]
     args = ["solve", *[a for v in varies for a in ("--vary", v)], "--front-samples", "128", "--out",
