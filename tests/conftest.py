@@ -12,13 +12,45 @@ SHARED = ROOT.parent / "shared"
 DEFAULT_DESIGN = ROOT / "swiftfin.toml"
 
 
-def session_cache_dir(tmp_path_factory) -> Path:
-    """The rebuild cache every test of the run shares (``swiftfin-cache``). Under pytest-xdist each worker has
-    its own base folder, all in one folder of the run: the cache sits there, so a family, a stage result or a
-    proved assembly pair one worker stored is read by the others instead of being built again (the cache writes
-    each entry whole and renames it into place, so workers never read half an entry)."""
+def session_shared_dir(tmp_path_factory) -> Path:
+    """A folder every test of the run shares. Under pytest-xdist each worker has its own base folder, all in one
+    folder of the run: that one (the run's own base folder without xdist)."""
     base = tmp_path_factory.getbasetemp()
-    return (base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base) / "swiftfin-cache"
+    return base.parent if os.environ.get("PYTEST_XDIST_WORKER") else base
+
+
+def session_cache_dir(tmp_path_factory) -> Path:
+    """The rebuild cache every test of the run shares (``swiftfin-cache`` in :func:`session_shared_dir`): a family,
+    a stage result or a proved assembly pair one worker stored is read by the others instead of being built again
+    (the cache writes each entry whole and renames it into place, so workers never read half an entry)."""
+    return session_shared_dir(tmp_path_factory) / "swiftfin-cache"
+
+
+def _sliced_once(folder: Path, label: str, threemf: bytes, compute):
+    """``compute()`` for one part's 3MF, done by one worker of the run: the result is filed under the 3MF's
+    SHA-256 in ``folder``; a worker that finds another slicing the part (its lock taken) returns None at once, and
+    one called again for it (``compute`` None) waits for that worker's result. So two workers slicing the same
+    parts split them instead of each slicing all."""
+    import fcntl
+    import hashlib
+    import pickle
+
+    key = hashlib.sha256(threemf).hexdigest()[:20]
+    done = folder / f"{label}.{key}.pkl"
+    with open(folder / f"{label}.{key}.lock", "w") as lock:
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | (fcntl.LOCK_NB if compute is not None else 0))
+        except BlockingIOError:
+            return None
+        if done.is_file():
+            return pickle.loads(done.read_bytes())
+        value = (compute or (lambda: None))()
+        if value is None:
+            return None
+        tmp = folder / f".{label}.{key}.{os.getpid()}"
+        tmp.write_bytes(pickle.dumps(value))
+        os.replace(tmp, done)
+        return value
 
 
 def require_tool(name: str, why: str) -> str:
@@ -91,22 +123,31 @@ def default_robot(default_params, default_parts, tmp_path_factory):
 
 @pytest.fixture(scope="session")
 def default_slices(default_params, default_parts, tmp_path_factory):
-    """PrusaSlicer on every printed part of the default design, once per session (about 60 s): label -> (the part's
-    export, the slicer's result for its 3MF alone, which carries the design's [print] settings). Read by the
-    slicer's and the print model's tests."""
+    """PrusaSlicer on every printed part of the default design, once per run (about 150 s on one worker): label ->
+    (the part's export, the slicer's result for its 3MF alone, which carries the design's [print] settings). Read by
+    the slicer's and the print model's tests. Under pytest-xdist the workers split the parts between them
+    (:func:`_sliced_once`): a part is sliced by whichever worker takes it first, the others read its result."""
     require_tool("prusa-slicer", "the printed parts are sliced with PrusaSlicer (issues 2 and 15)")
     from swiftfin.exports.files import export_part
     from swiftfin.exports.slicer import slice_stl
     folder = tmp_path_factory.mktemp("default_slices")
-    out = {}
+    shared = session_shared_dir(tmp_path_factory) / "default-slices"
+    shared.mkdir(exist_ok=True)
+    exports, sliced = {}, {}
     for part in default_parts:
         if not part.printed:
             continue
-        ex = export_part(part, default_params)
+        ex = exports[part.label] = export_part(part, default_params)
         threemf = folder / f"{part.label}.3mf"
         threemf.write_bytes(ex.files[".3mf"])
-        out[part.label] = (ex, slice_stl(threemf, default_params, settings=False))
-    return out
+        sliced[part.label] = _sliced_once(shared, part.label, ex.files[".3mf"],
+                                          lambda f=threemf: slice_stl(f, default_params, settings=False))
+    for label, res in sliced.items():       # the parts another worker was slicing: wait for its results
+        if res is None:
+            sliced[label] = _sliced_once(shared, label, exports[label].files[".3mf"], None)
+            if sliced[label] is None:       # that worker failed or stopped: slice it here
+                sliced[label] = slice_stl(folder / f"{label}.3mf", default_params, settings=False)
+    return {label: (exports[label], sliced[label]) for label in exports}
 
 
 @pytest.fixture(scope="session")

@@ -92,14 +92,14 @@ def test_interrupted_write_leaves_no_folder(env, monkeypatch, capsys):
     (env / "design.toml").write_text(dump_toml())
     monkeypatch.setattr(registry, "FAMILIES", {"fin": registry.FAMILIES["fin"]})
     monkeypatch.setattr(pipeline, "FAMILIES", registry.FAMILIES)
-    # a fin-only "design" has no robot to export: this test is about the file mechanics; the robot, mass
-    # properties and report of the real design are checked in test_default_design_builds_end_to_end
-    monkeypatch.setattr(pipeline, "write_robot_and_report", lambda *a, **k: [])
-
+    # interrupted after the parts and the assembly STEP are written, while the robot is being written (a fin-only
+    # "design" has no robot to export: this test is about the file mechanics; the robot, mass properties and report
+    # of the real design are checked in test_default_design_builds_end_to_end). Not the STEP itself: the session's
+    # cache may hold it, and then it is not made again.
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(pipeline, "assembly_step", interrupted)
+    monkeypatch.setattr(pipeline, "write_robot_and_report", interrupted)
     assert main(["build", "design.toml", "--out", "out"]) == 130
     assert not (env / "out").exists() and leftovers(env) == []
 
