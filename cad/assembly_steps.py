@@ -134,7 +134,8 @@ class Plan:
     steps: list[Step]
     checked_paths: int = 0           # part paths proved clear
     pair_checks: int = 0             # part pairs whose path was proved (gap or contact)
-    pairs_remembered: int = 0        # of them, proved by an earlier build (PathMemo)
+    pairs_remembered: int = 0        # of them, found in the PathMemo: proved earlier in this plan (a part tried
+                                     # again in a later round) or by an earlier build
     tried: int = 0                   # directions tried in all
     fastener_count: int = 0
     notes: list[str] = field(default_factory=list)

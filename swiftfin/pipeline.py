@@ -498,7 +498,8 @@ def summary_table(result: BuildResult) -> str:
     plan = result.assembly_plan
     if plan is not None:
         parts = sum(len(s.parts) for s in plan.steps)
-        rem = f", {plan.pairs_remembered} remembered from earlier builds" if plan.pairs_remembered else ""
+        rem = (f", {plan.pairs_remembered} found proved already, earlier in the plan or by an earlier build"
+               if plan.pairs_remembered else "")
         lines.append(f"assembly steps: {len(plan.steps)} steps put in {parts} parts and {plan.fastener_count} "
                      f"fasteners; {plan.checked_paths} ways in proved clear of the parts already placed "
                      f"({plan.pair_checks} part pairs along them{rem}); {len(plan.notes)} part(s) not along their "
