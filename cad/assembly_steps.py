@@ -200,7 +200,7 @@ def _pair_path(p: Params, m: Placed, q: Placed, u: np.ndarray, t0: float, t1: fl
     return None
 
 
-_SOURCE_DIGEST = hashlib.sha256(Path(__file__).read_bytes() + Path(_assembly.__file__).read_bytes()).digest()
+_SOURCE_DIGEST = hashlib.sha256(Path(__file__).read_bytes() + _assembly._SOURCE_DIGEST).digest()
 
 
 def _path_key(p: Params, m: Placed, q: Placed, direction: str, contact: bool) -> str:
@@ -211,6 +211,10 @@ def _path_key(p: Params, m: Placed, q: Placed, direction: str, contact: bool) ->
     h.update(json.dumps([m.digest, q.digest, direction, contact, p.export.mesh_tolerance_mm,
                          p.print.clearance_sliding_mm, MIN_PASSING_GAP_MM]).encode())
     return h.hexdigest()
+
+
+MISSING = object()
+"""What :meth:`PathMemo.get` returns for a pair it has not stored (None is a stored clear way)."""
 
 
 class PathMemo:
@@ -240,8 +244,6 @@ class PathMemo:
             json.dump(None if value is None else list(value), fh)
         os.replace(tmp, d / key)
 
-
-MISSING = object()
 
 
 def path_blocker(p: Params, moving: list[Placed], direction: str, still: list[Placed],
