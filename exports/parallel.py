@@ -20,20 +20,29 @@ def map_parts(fn, items: list, jobs: int | None = 1) -> list:
     Each part's mass is independent of the others' (the layer slicing of a hull piece takes seconds), so on a
     two-core machine a cold build's mass model takes about half the time. The workers are forked, so ``fn``
     and the parts (OpenCascade solids) need not be picklable; only the results are. Where fork is not
-    available the items are done here, one after the other.
+    available, and inside a worker of another map (whose processes may not have children), the items are done
+    here, one after the other.
+
+    ``fn`` must not run OpenCascade booleans: build123d runs them on OCCT's thread pool
+    (``SetRunParallel(True)``), and a child forked from a process whose pool has started waits for ever on the
+    pool's threads, which fork does not copy (seen 2026-11-26: part families built on forked workers hung on the
+    second build in one process). The per-part work mapped here reads meshes and B-rep volume integrals only.
     """
     global _MAP_STATE
     import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
 
     n = len(items)
     jobs = (os.cpu_count() or 1) if jobs is None else jobs
     jobs = min(jobs, n)
-    if jobs <= 1 or "fork" not in mp.get_all_start_methods():
+    if jobs <= 1 or "fork" not in mp.get_all_start_methods() or mp.current_process().daemon:   # a worker: here
         return [fn(x) for x in items]
     _MAP_STATE = (fn, items)
     try:
-        with mp.get_context("fork").Pool(jobs) as pool:
-            return pool.map(_map_one, range(n), chunksize=1)
+        # concurrent.futures, not multiprocessing.Pool: a worker that dies (a crash in native code, the OOM
+        # killer) raises BrokenProcessPool here, where Pool.map would wait for its lost result for ever
+        with ProcessPoolExecutor(jobs, mp_context=mp.get_context("fork")) as pool:
+            return list(pool.map(_map_one, range(n)))
     finally:
         _MAP_STATE = ()
 

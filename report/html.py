@@ -109,11 +109,19 @@ def view_mesh(memo, label: str, vertices, faces) -> tuple:
     return memoized(memo, "view_mesh", (label,), [n], lambda: cluster_decimate(vertices, faces, n))
 
 
-def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
-                    memo=None, jobs: int | None = 1) -> tuple[dict, dict[str, bytes], float]:
-    """Assembly pictures ({'exterior', 'cutaway'}) and one picture per printed part; returns the seconds taken.
+#: what is already in place in an exploded view, and the camera of every step's picture
+PLACED_COLOR = (0.80, 0.80, 0.80)
+STEP_VIEW = (900, 330, 62.0, 30.0)
+
+
+def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Callable[[str], None],
+                    memo=None, jobs: int | None = 1) -> tuple[dict, dict[str, bytes], dict[int, bytes], float]:
+    """Every picture of the report, rendered on ``jobs`` processes (one picture each, the largest first):
+    the assembly ({'exterior', 'cutaway'}), one picture per printed part and, with ``steps`` (the build's
+    ``assembly_steps.json``), one exploded view per step that puts parts in (:func:`step_scenes`).
+    Returns (assembly pictures, part pictures by label, step pictures by number, seconds taken).
     ``memo(stage, labels, extra, compute)``: the application's store of pictures and view meshes, keyed by the
-    parts' content (None: render every picture); ``jobs``: processes for the part pictures."""
+    parts' content (None: render every picture)."""
     from swiftfin.report.render import MeshItem, png_bytes, render
 
     from swiftfin.exports.parallel import map_parts, memoized
@@ -121,70 +129,53 @@ def render_pictures(parts: list[ReportPart], progress: Callable[[str], None],
     t0 = time.perf_counter()
     items = {p.label: MeshItem(p.vertices, p.faces, FAMILY_COLORS.get(p.family, OTHER_COLOR), p.label) for p in parts}
 
-    def picture(what: list, w: int, h: int, az: float, el: float) -> bytes:
-        return memoized(memo, "picture", tuple(it.name for it in what),
-                      [w, h, az, el, [list(it.color) for it in what], [len(it.faces) for it in what]],
-                      lambda: png_bytes(render(what, w, h, azimuth_deg=az, elevation_deg=el, max_faces=10**9)))
-
     def view_item(it: MeshItem) -> MeshItem:
         v, f = view_mesh(memo, it.name, it.vertices, it.faces)
         return MeshItem(v, f, it.color, it.name)
 
-    out = {}
-    progress("rendering the assembly (exterior)")
     view = {label: view_item(it) for label, it in items.items()}
-    out["exterior"] = picture(list(view.values()), 1200, 430, 62, 22)
-    progress("rendering the assembly (cut-away, upper hull halves hidden)")
     cut = [view[p.label] for p in parts if not (p.family == "hull" and p.label.endswith("_upper"))]
-    out["cutaway"] = picture(cut, 1200, 430, 58, 40)
     printed = [p for p in parts if p.printed]
-    progress(f"rendering {len(printed)} parts")
-    pngs = map_parts(lambda p: picture([items[p.label]], 360, 250, 62, 28), printed, jobs)
-    pics = {p.label: png for p, png in zip(printed, pngs)}
-    return out, pics, time.perf_counter() - t0
+    # (key, scene, camera (w, h, azimuth, elevation), extra key words of the stored picture)
+    scenes = [(("assembly", "exterior"), list(view.values()), (1200, 430, 62, 22), []),
+              (("assembly", "cutaway"), cut, (1200, 430, 58, 40), [])]
+    drawn = step_scenes(parts, steps or {}, view) if steps else []
+    scenes += [(("step", number), scene, STEP_VIEW, extra) for number, scene, extra in reversed(drawn)]
+    scenes += [(("part", p.label), [items[p.label]], (360, 250, 62, 28), []) for p in printed]
+    progress(f"rendering the assembly (exterior; cut-away, upper hull halves hidden), {len(printed)} parts and "
+             f"{len(drawn)} exploded assembly steps")
+
+    def picture(scene) -> bytes:
+        _key, what, (w, h, az, el), extra = scene
+        return memoized(memo, "picture", tuple(it.name for it in what),
+                        [w, h, az, el, [list(it.color) for it in what], [len(it.faces) for it in what]] + extra,
+                        lambda: png_bytes(render(what, w, h, azimuth_deg=az, elevation_deg=el, max_faces=10**9)))
+
+    pngs = dict(zip((key for key, *_ in scenes), map_parts(picture, scenes, jobs)))
+    out = {name: png for (kind, name), png in pngs.items() if kind == "assembly"}
+    pics = {name: png for (kind, name), png in pngs.items() if kind == "part"}
+    step_pics = {name: pngs[("step", name)] for name, _scene, _extra in drawn}
+    return out, pics, step_pics, time.perf_counter() - t0
 
 
-#: what is already in place in an exploded view, and the camera of every step's picture
-PLACED_COLOR = (0.80, 0.80, 0.80)
-STEP_VIEW = (900, 330, 62.0, 30.0)
-
-
-def render_step_pictures(parts: list[ReportPart], steps: dict, progress: Callable[[str], None],
-                         memo=None) -> dict[int, bytes]:
-    """One exploded view per step that puts parts in (``assembly_steps.json``'s steps): the parts already in
-    place in light grey, the step's parts in their family's colour, set back against their way in by
-    ``explode_mm`` (the parts not yet in are not drawn). Step number -> PNG."""
-    from swiftfin.exports.parallel import memoized
-    from swiftfin.report.render import MeshItem, png_bytes, render
+def step_scenes(parts: list[ReportPart], steps: dict, view: dict) -> list[tuple[int, list, list]]:
+    """The exploded view of every step that puts parts in: (step number, scene, stored picture's key words).
+    The parts already in place in light grey, the step's parts in their family's colour, set back against
+    their way in by ``explode_mm``; the parts not yet in are not drawn. ``view``: {label: MeshItem} of the
+    assembly views' meshes."""
+    from swiftfin.report.render import MeshItem
 
     by = {p.label: p for p in parts}
-    w, h, az, el = STEP_VIEW
     placed: list[str] = []
-    out: dict[int, bytes] = {}
-    views: dict[str, tuple] = {}
-
-    def view(label: str):
-        if label not in views:
-            views[label] = view_mesh(memo, label, by[label].vertices, by[label].faces)
-        return views[label]
-
-    drawn = [s for s in steps.get("steps", []) if s.get("parts") and all(q in by for q in s["parts"])]
-    progress(f"rendering {len(drawn)} exploded assembly steps")
-    for s in drawn:
+    out = []
+    for s in steps.get("steps", []):
+        if not (s.get("parts") and all(q in by for q in s["parts"])):
+            continue
         shift = -float(s.get("explode_mm", 0.0)) * np.asarray(s.get("vector", (0, 0, 0)), float)
-        items = []
-        for q in placed:
-            v, f = view(q)
-            items.append(MeshItem(v, f, PLACED_COLOR, q))
-        for q in s["parts"]:
-            v, f = view(q)
-            items.append(MeshItem(v + shift, f, FAMILY_COLORS.get(by[q].family, OTHER_COLOR), q))
-        labels = tuple(it.name for it in items)
-        extra = [w, h, az, el, [list(it.color) for it in items], [len(it.faces) for it in items],
-                 [round(float(c), 3) for c in shift], len(placed)]
-        out[s["number"]] = memoized(memo, "picture", labels, extra,
-                                    lambda: png_bytes(render(items, w, h, azimuth_deg=az, elevation_deg=el,
-                                                             max_faces=10**9)))
+        scene = [MeshItem(view[q].vertices, view[q].faces, PLACED_COLOR, q) for q in placed]
+        scene += [MeshItem(view[q].vertices + shift, view[q].faces, FAMILY_COLORS.get(by[q].family, OTHER_COLOR), q)
+                  for q in s["parts"]]
+        out.append((s["number"], scene, [[round(float(c), 3) for c in shift], len(placed)]))
         placed += s["parts"]
     return out
 
@@ -222,11 +213,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
     pics = part_pics = None
     step_pics = {}
     if rparts:
-        pics, part_pics, timing.render_s = render_pictures(rparts, progress, memo, jobs)
-        if steps:
-            t0 = time.perf_counter()
-            step_pics = render_step_pictures(rparts, steps, progress, memo)
-            timing.render_s += time.perf_counter() - t0
+        pics, part_pics, step_pics, timing.render_s = render_pictures(rparts, steps, progress, memo, jobs)
     t0 = time.perf_counter()
     progress("plotting the efficiency curves (paper Fig. 8), one tail-beat and the body wave")
     if plots is None:
