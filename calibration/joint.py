@@ -295,12 +295,16 @@ def _copied_motor_column(joint: np.ndarray, motor: np.ndarray, rigid: np.ndarray
     return ""
 
 
-def load(path: str | Path, design: Params, joint: int | None = None, notes: list | None = None) -> Context:
-    """Read and check a joint log; build its context. Warnings (filled gaps) are appended to ``notes``."""
+def load(path: str | Path, design: Params, joint: int | None = None, notes: list | None = None,
+         bench=None) -> Context:
+    """Read and check a joint log; build its context. Warnings (filled gaps) are appended to ``notes``.
+    ``bench``: the bench's link and bearing (calibration.bench.Bench; default: this module's constants)."""
     log = read_log(path, COLUMNS, family="joint")
     if notes is not None:
         notes.extend(log.notes)
     d = joint_design(design, joint)
+    if bench is not None:
+        d = bench.on(d)
     ctx = joint_context(log["time_s"], log["motor_angle_rad"], log["joint_angle_rad"], d, str(path),
                         tension=log.columns.get("cable_tension_n"))
     check_excitation(ctx, str(path))

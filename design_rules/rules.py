@@ -19,8 +19,10 @@ from swiftfin.layout.geometry import cable_routes, spool_dims
 from swiftfin.design_rules.findings import Finding, Severity, at_least, at_most, not_evaluated, within
 from swiftfin.physics.capstan import cable_area_m2
 from swiftfin.physics.kinematics import joint_resolution_rad
-from swiftfin.layout.loads import DriveLoads, JointLoads, LinkMass, drive_loads, fin_geometry, joint_loads
+from swiftfin.layout.loads import (DriveLoads, JointLoads, LinkMass, drive_loads, fin_geometry, joint_loads,
+                                   with_hinge_losses)
 from swiftfin.physics.strouhal import strouhal
+from swiftfin.core.calibration import Calibration
 from swiftfin.core.errors import UserError
 from swiftfin.core.params import Problem
 from swiftfin.core.schema import Params
@@ -81,15 +83,25 @@ class RuleContext:
 
     def __init__(self, params: Params, mass_properties: MassProperties | None = None,
                  part_bboxes_mm: dict[str, tuple[float, float, float]] | None = None,
-                 link_masses: tuple[LinkMass, ...] | None = None):
+                 link_masses: tuple[LinkMass, ...] | None = None, calibration: Calibration | None = None):
+        """``calibration``: measured values (core.calibration); its revised design keys must already be in
+        ``params`` (:meth:`Calibration.revised_params`), its hinge damping and friction join the loads here."""
         self.p = params
         self.mass_properties = mass_properties
         self.part_bboxes_mm = part_bboxes_mm
         self.link_masses = link_masses
+        self.calibration = calibration
 
     @cached_property
     def loads(self) -> JointLoads:
-        return joint_loads(self.p, self.link_masses)
+        loads = joint_loads(self.p, self.link_masses)
+        cal = self.calibration
+        if cal is not None and cal.joints:
+            n = self.p.joints.count
+            c = [(cal.joint(j) and cal.joint(j).get("hinge_damping_nm_s_rad")) or 0.0 for j in range(1, n + 1)]
+            tc = [(cal.joint(j) and cal.joint(j).get("hinge_friction_nm")) or 0.0 for j in range(1, n + 1)]
+            loads = with_hinge_losses(loads, c, tc)
+        return loads
 
     @cached_property
     def drive(self) -> DriveLoads:
@@ -511,8 +523,8 @@ def mass_properties_from_json(mp: dict | None) -> "MassProperties | None":
 
 
 def design_findings(p: Params, mass_properties_json: dict | None = None,
-                    part_bboxes_mm: dict | None = None) -> list:
+                    part_bboxes_mm: dict | None = None, calibration: Calibration | None = None) -> list:
     """Every rule's finding for a design: what ``swiftfin check`` prints and the report shows. The float rules
     need a build's ``mass_properties.json`` content; the bed-fit rule uses the built parts' print boxes if given."""
     return run_rules(RuleContext(p, mass_properties=mass_properties_from_json(mass_properties_json),
-                                 part_bboxes_mm=part_bboxes_mm or None))
+                                 part_bboxes_mm=part_bboxes_mm or None, calibration=calibration))

@@ -34,9 +34,11 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from swiftfin.exports.robot_model import Robot
+from swiftfin.layout.servo import FRICTION_TIMECONST_S
 from swiftfin.exports.urdf import fmt, num
 
 TIMESTEP_S = 5e-4
+assert FRICTION_TIMECONST_S >= 2 * TIMESTEP_S      # MuJoCo: a constraint's time constant >= two time steps
 BUOY_MASS_FRACTION = 0.05     # share of a link's mass moved to its buoyancy body (halved until the rest is valid)
 BUOY_RADIUS_M = 0.004         # the buoyancy body's inertia: a solid sphere of this radius
 BUOY_GEOM_RADIUS_M = 1e-4     # its only geom: a massless fluid-inert speck (see mjcf_tree)
@@ -95,9 +97,12 @@ def mjcf_tree(robot: Robot, free: bool = True) -> ET.ElementTree:
             ET.SubElement(b, "freejoint", name="root")
         jt = joints_by_child.get(name)
         if jt is not None:
-            ET.SubElement(b, "joint", name=jt.name, type="hinge", axis=fmt(*jt.axis),
-                          range=fmt(jt.lower_rad, jt.upper_rad), limited="true",
-                          damping=num(jt.damping_nm_s_rad), armature=num(jt.armature_kg_m2))
+            el = ET.SubElement(b, "joint", name=jt.name, type="hinge", axis=fmt(*jt.axis),
+                               range=fmt(jt.lower_rad, jt.upper_rad), limited="true",
+                               damping=num(jt.damping_nm_s_rad), armature=num(jt.armature_kg_m2))
+            if jt.friction_nm > 0:          # measured (a calibration file): MuJoCo's dry friction of the dof
+                el.set("frictionloss", num(jt.friction_nm))
+                el.set("solreffriction", f"{num(FRICTION_TIMECONST_S)} 1")
         I = main.inertia
         ET.SubElement(b, "inertial", pos=fmt(*main.com_m), mass=num(main.mass_kg),
                       fullinertia=fmt(I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]))

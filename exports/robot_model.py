@@ -26,7 +26,11 @@ from swiftfin.layout import geometry as layout
 from swiftfin.core import units
 from swiftfin.exports.hydro import link_hydrodynamics
 from swiftfin.exports.massprops import Inertial, MassReport, combine, link_origin_mm
+from swiftfin.core.calibration import Calibration
 from swiftfin.core.schema import Params
+from swiftfin.layout.servo import (SERVO_DERIVATIVE_TIME_S, UNCALIBRATED_DAMPING_NM_S_RAD, Servo,  # noqa: F401
+                                   cable_pair_stiffness_nm_rad, joint_servo, joint_stiffness_nm_rad,
+                                   joint_torque_limit_nm, reflected_armature_kg_m2)
 
 JOINT_AXIS = (0.0, 0.0, -1.0)
 
@@ -86,6 +90,7 @@ class Joint:
     velocity_rad_s: float
     damping_nm_s_rad: float
     armature_kg_m2: float               # motor rotor inertia reflected through the capstan
+    friction_nm: float = 0.0            # the hinge's dry friction (measured: core.calibration), 0 unless calibrated
 
 
 @dataclass(frozen=True)
@@ -127,33 +132,6 @@ class Robot:
 
 
 # ----------------------------------------------------------------------------------------------- from a design
-SERVO_DERIVATIVE_TIME_S = 1.0 / (2 * math.pi * 50.0)
-"""kv / kp of the joint position servo [s]: damping up to 50 Hz (the step loop is far faster than the wave)."""
-
-
-def joint_stiffness_nm_rad(p: Params) -> float:
-    """Small-angle stiffness of a stepper held in position, seen at the joint [N m/rad].
-
-    A hybrid stepper's holding torque follows T = T_hold sin(pi/2 theta/theta_fs) (peak one full step from
-    the detent), so its stiffness is T_hold pi / (2 theta_fs); the capstan multiplies a motor stiffness by
-    (d_mount / r_spool)^2 at the joint.
-    """
-    fs = math.radians(p.motor.full_step_deg)
-    ratio = p.joints.tendon_moment_arm_mm / (p.spool.drum_diameter_mm / 2)
-    return p.motor.holding_torque_nm * math.pi / (2 * fs) * ratio**2
-
-
-def joint_torque_limit_nm(p: Params) -> float:
-    """Joint torque at the motor's holding torque: tau_motor * d_mount / r_spool (cable tension x arm)."""
-    return p.motor.holding_torque_nm * p.joints.tendon_moment_arm_mm / (p.spool.drum_diameter_mm / 2)
-
-
-def reflected_armature_kg_m2(p: Params) -> float:
-    """Rotor inertia seen at the joint: J_rotor (d_mount / r_spool)^2 (the spool turns d/r times the joint)."""
-    ratio = p.joints.tendon_moment_arm_mm / (p.spool.drum_diameter_mm / 2)
-    return p.motor.rotor_inertia_kg_m2 * ratio**2
-
-
 def fluid_ellipsoid(p: Params, report: MassReport, j: int) -> Geometry:
     """Fluid ellipsoid of link j over its span of stations [s0, s1] (MuJoCo's ellipsoid fluid model).
 
@@ -223,7 +201,8 @@ def fin_ellipsoid(p: Params, parts, last_link: int) -> Geometry | None:
                     Pose(tuple(float(v) for v in centre)))
 
 
-def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfin") -> Robot:
+def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfin",
+                      calibration: Calibration | None = None) -> Robot:
     """The Robot of a design: links and inertials from ``report``, joints from swiftfin.layout.geometry.
 
     Mesh file names follow :func:`visual_mesh_file` / :func:`collision_mesh_file` (written by exports.robot).
@@ -256,12 +235,12 @@ def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfi
         parent, child = report.links[j - 1], report.links[j]
         d = np.asarray(child.origin_m) - np.asarray(parent.origin_m)
         jn = f"joint_{j}"
+        s = joint_servo(p, j, calibration.joint(j) if calibration is not None else None)
         joints.append(Joint(jn, parent.name, child.name, Pose(tuple(float(v) for v in d)), JOINT_AXIS,
-                            -stops[j - 1], stops[j - 1], tau, w_max, 1e-3, arm))
+                            -stops[j - 1], stops[j - 1], tau, w_max, s.damping_nm_s_rad, s.armature_kg_m2,
+                            s.friction_nm))
         tendons.append(Tendon(f"cable_{j}", jn, units.length_m(p.joints.tendon_moment_arm_mm)))
-        kp = joint_stiffness_nm_rad(p)
-        kv = kp * SERVO_DERIVATIVE_TIME_S
-        actuators.append(Actuator(f"motor_{j}", jn, kp, kv, tau))
+        actuators.append(Actuator(f"motor_{j}", jn, s.kp_nm_rad, s.kv_nm_s_rad, tau))
     env = p.environment
     return Robot(name, tuple(links), tuple(joints), tuple(tendons), tuple(actuators),
                  Medium(env.water_density_kg_m3, env.water_viscosity_pa_s, env.gravity_m_s2))

@@ -119,7 +119,10 @@ def _model(parent: ET.Element, robot: Robot, water: bool = False) -> ET.Element:
         ET.SubElement(lim, "upper").text = num(jt.upper_rad)
         ET.SubElement(lim, "effort").text = num(jt.effort_nm)
         ET.SubElement(lim, "velocity").text = num(jt.velocity_rad_s)
-        ET.SubElement(ET.SubElement(ax, "dynamics"), "damping").text = num(jt.damping_nm_s_rad)
+        dyn = ET.SubElement(ax, "dynamics")
+        ET.SubElement(dyn, "damping").text = num(jt.damping_nm_s_rad)
+        if jt.friction_nm > 0:
+            ET.SubElement(dyn, "friction").text = num(jt.friction_nm)
     if water:
         for lk in robot.links:
             if lk.hydro is not None:

@@ -71,7 +71,9 @@ def urdf_tree(robot: Robot, mesh_uri_prefix: str = "") -> ET.ElementTree:
         ET.SubElement(el, "axis", xyz=fmt(*jt.axis))
         ET.SubElement(el, "limit", lower=num(jt.lower_rad), upper=num(jt.upper_rad), effort=num(jt.effort_nm),
                       velocity=num(jt.velocity_rad_s))
-        ET.SubElement(el, "dynamics", damping=num(jt.damping_nm_s_rad))
+        dyn = ET.SubElement(el, "dynamics", damping=num(jt.damping_nm_s_rad))
+        if jt.friction_nm > 0:
+            dyn.set("friction", num(jt.friction_nm))
     for lk in robot.links:
         if lk.hydro is None:
             continue

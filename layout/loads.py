@@ -29,6 +29,8 @@ motor torque (tension difference x spool radius + rotor inertia x motor accelera
 """
 from __future__ import annotations
 
+import dataclasses
+
 import math
 from dataclasses import dataclass, field
 
@@ -295,6 +297,20 @@ class DriveLoads:
     def peak_motor_torque_nm(self) -> np.ndarray:
         return np.max(np.abs(self.motor_torque_nm), axis=0)
 
+
+
+def with_hinge_losses(loads: JointLoads, damping_nm_s_rad, friction_nm) -> JointLoads:
+    """``loads`` with the hinges' own losses added to every joint's torque: a viscous ``c w`` and a dry
+    ``tau_c sign(w)`` per joint (arrays of length n_joints [N m s/rad], [N m]; measured on a bench and read
+    from a calibration file, :mod:`swiftfin.core.calibration`), as the component ``hinge``. The drive then
+    carries them through the spools and routes like any other joint torque."""
+    c = np.asarray(damping_nm_s_rad, dtype=float)[None, :]
+    tc = np.asarray(friction_nm, dtype=float)[None, :]
+    w = loads.joint_rate_rad_s
+    hinge = c * w + tc * np.sign(w)
+    comps = dict(loads.components_nm)
+    comps["hinge"] = hinge
+    return dataclasses.replace(loads, torque_nm=loads.torque_nm + hinge, components_nm=comps)
 
 
 def simple_motor_torque_nm(joint_torque_nm, spool_radius_m: float, moment_arm_m: float, route_eff) -> np.ndarray:

@@ -203,8 +203,9 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
                mass_note: str = "", timing: ReportTiming | None = None, memo=None, plots=None,
                jobs: int | None = 1, robot_dir: Path | None = None, swim: list[dict] | None = None,
                bom: list[dict] | None = None, steps: dict | None = None, solve: dict | None = None,
-               solve_name: str = "") -> str:
-    """The report page as a string (see :func:`write_report`). ``bom``: the rows of the build's ``bom.csv``;
+               solve_name: str = "", rules_note: str = "") -> str:
+    """The report page as a string (see :func:`write_report`); ``rules_note``: a line above the rules (what
+    they were evaluated with). ``bom``: the rows of the build's ``bom.csv``;
     ``steps``: the build's ``assembly_steps.json``; ``solve``: a ``swiftfin solve --json`` result."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
@@ -247,7 +248,7 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
         "steps": steps_section(steps, step_pics),
         "parts": parts_section(params, rparts, part_pics, mass_properties),
         "bom": bom_section(bom),
-        "rules": rules_section(findings),
+        "rules": rules_section(findings, rules_note),
         "mass": mass_section(params, mass_properties, mass_note),
         "robot": robot_section(robot_dir, robot_pic, swim),
         "efficiency": plot_section(eff, "transmission efficiency against frequency"),
@@ -290,7 +291,8 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
                  findings, audit, progress: Callable[[str], None] | None = None,
                  params_name: str = "swiftfin.toml", mass_note: str = "",
                  timing: ReportTiming | None = None, memo=None, plots=None, jobs: int | None = 1,
-                 swim: list[dict] | None = None, solve: dict | None = None, solve_name: str = "") -> Path:
+                 swim: list[dict] | None = None, solve: dict | None = None, solve_name: str = "",
+                 rules_note: str = "") -> Path:
     """Write ``out_dir/report.html`` and return its path.
 
     ``parts``: ReportParts or ``swiftfin.pipeline.BuiltPart``s (None: no pictures, the page says so);
@@ -312,7 +314,7 @@ def write_report(params: Params, out_dir, parts=None, mass_properties: dict | No
     page = build_page(params, parts, mass_properties, fit_dir, findings=findings, audit=audit, progress=progress,
                       params_name=params_name, mass_note=mass_note, timing=timing, memo=memo, plots=plots,
                       jobs=jobs, robot_dir=robot_dir, swim=swim, bom=bom, steps=steps, solve=solve,
-                      solve_name=solve_name)
+                      solve_name=solve_name, rules_note=rules_note)
     path = out / REPORT_NAME
     tmp = out / f".{REPORT_NAME}.tmp"
     tmp.write_text(page, encoding="utf-8")

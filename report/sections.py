@@ -142,7 +142,7 @@ def parts_section(p: Params, parts, part_pics: dict | None, mp: dict | None) -> 
     return "".join(out)
 
 
-def rules_section(findings) -> str:
+def rules_section(findings, note: str = "") -> str:
     rows, classes = [], []
     for f in sorted_findings(findings):
         unit = "" if f.unit == "-" else f.unit
@@ -159,6 +159,7 @@ def rules_section(findings) -> str:
         classes.append("row-" + VERDICT_CLASS.get(f.severity.name, "na"))
     return ('<p class="lead">Every rule of <code>design_rules/</code> applied to this design, failing rules first, '
             'then by margin (the relative distance to the limit; negative = violated).</p>'
+            + (f'<p class="lead">{esc(note)}</p>' if note else "")
             + table(["rule", "value", "limit", "margin", "verdict", "source"], rows, "rules", classes, {1, 3}))
 
 

@@ -33,17 +33,22 @@ COMMANDS: dict[str, Command] = {
         "Builds every part of the design from one parameter file: each part as STEP, STL and 3MF (printed parts "
         "turned to their print orientation), the assembly STEP with its clearance proof, the mass properties, the "
         "robot for simulators (URDF, MJCF, SDF), report.html and manifest.json. Part families whose inputs did not "
-        "change are taken from the rebuild cache. The output folder is written whole or not at all.",
+        "change are taken from the rebuild cache. The output folder is written whole or not at all. With "
+        "--calibration, a joint's measured damping, friction and stiffness (swiftfin fit joint) go into the "
+        "simulator files and the report's rules.",
         "swiftfin build                          # ./swiftfin.toml (or the shipped design) -> build/\n"
         "swiftfin build my_fish.toml --out my_build\n"
+        "swiftfin build --calibration fit_joint/calibration.toml --out build_cal\n"
         "swiftfin build --no-cache               # every part afresh"),
     "check": Command(
         "apply the design rules (exit 1 if any fails)",
         "Applies every design rule to the design (drum to cable diameter, pretension, holding torque against the "
         "swimming load, cable strength and stretch, slack, stepper pull-out, Strouhal number, print bed, and with "
         "a build's mass properties the floating rules) and prints a table of findings. Exit 0 when no rule fails, "
-        "1 when one does, 2 for a bad input file. Needs no CAD kernel.",
+        "1 when one does, 2 for a bad input file. Needs no CAD kernel. With --calibration, the rules use a joint's "
+        "measured cable stiffness, hinge damping and friction.",
         "swiftfin check\n"
+        "swiftfin check --calibration fit_joint/calibration.toml\n"
         "swiftfin check my_fish.toml --json check.json\n"
         "swiftfin check --mass-properties build/mass_properties.json --loads"),
     "audit": Command(
@@ -57,8 +62,11 @@ COMMANDS: dict[str, Command] = {
         "Compares a model family (joint: a capstan-driven tail joint; drive: a one-axis drive such as EMPS; body: "
         "the body wave from video markers) with a measured log, diagnoses the residual and adds named physical "
         "effects one at a time, each kept only when it lowers the error on held-out data. Writes fit_report.json, "
-        "fit_report.md and plots to --out.",
+        "fit_report.md and plots to --out; for a joint, also calibration.toml (the measured values, for build and "
+        "check --calibration) and, with --mjcf, the log replayed in MuJoCo through the exported and the calibrated "
+        "joint.",
         "swiftfin fit joint bench_log.csv --design swiftfin.toml --out fit_joint\n"
+        "swiftfin fit joint bench_log.csv --bench bench.toml --mjcf build/robot/swiftfin.xml --out fit_joint\n"
         "swiftfin fit drive DATA_EMPS.mat --holdout DATA_EMPS_PULSES.mat --out fit_emps\n"
         "swiftfin fit body fishsim/ --holdout fishsim/markers_f2_25.csv --out fit_body"),
     "synth": Command(

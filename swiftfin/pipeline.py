@@ -29,6 +29,7 @@ from swiftfin.cad.registry import FAMILIES, family_function
 from swiftfin.exports.manifest import MANIFEST_NAME, make_manifest, manifest_text, sha256_bytes
 from swiftfin import outdir
 from swiftfin.cache import FamilyCache, brep_roundtrip, record_reads, shape_from_brep
+from swiftfin.core.calibration import FILE_NAME as CALIBRATION_NAME
 from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
 from swiftfin.progress import bar, say
@@ -56,6 +57,8 @@ class BuildResult:
     fastener_report: object = None     # cad.fastener_check.FastenerReport
     assembly_plan: object = None       # cad.assembly_steps.Plan
     cable_stats: dict = field(default_factory=dict)   # the cables' and tubes' proof (empty: not a whole build)
+    calibration: object = None         # core.calibration.Calibration the build applied (None: none given)
+    calibration_changes: list = field(default_factory=list)   # what it changed, a line each (Calibration.changes)
 
 
 def _one_solid(spec: PartSpec):
@@ -373,7 +376,7 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
     memo = stage_memo(result, cache)
     robot = write_robot(result.params, [b.spec for b in result.parts], folder,
                         meshes={b.spec.label: b.export.mesh for b in result.parts}, memo=memo, jobs=build_jobs(),
-                        ros2_package=ros2_package)
+                        ros2_package=ros2_package, calibration=result.calibration)
     bom_file = write_bom(result, folder)
     steps_file = write_assembly_steps(result, folder)
     if progress:
@@ -390,10 +393,24 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
         swimming = swim_results(folder / "robot" / "swiftfin.xml", result.params, build_jobs())
     report_for_build(result, folder, params_file.name, progress=progress, memo=memo, plots=plots, swim=swimming)
     entries = []
-    for rel in sorted(robot["files"]) + [bom_file] + ([steps_file] if steps_file else []) + ["report.html"]:
+    cal_file = write_calibration(result, folder)
+    for rel in (sorted(robot["files"]) + [bom_file] + ([steps_file] if steps_file else []) + ([cal_file] if cal_file
+                                                                                               else []) + ["report.html"]):
         data = (folder / rel).read_bytes()
         entries.append({"path": rel, "sha256": sha256_bytes(data), "bytes": len(data)})
     return entries
+
+
+
+
+def write_calibration(result: BuildResult, folder: Path) -> str | None:
+    """The calibration the build applied, as it was read, into ``folder`` (so that a build says what it was
+    calibrated with); its name, or None without one."""
+    cal = result.calibration
+    if cal is None:
+        return None
+    (folder / CALIBRATION_NAME).write_bytes(Path(cal.path).read_bytes())
+    return CALIBRATION_NAME
 
 
 def write_assembly_steps(result: BuildResult, folder: Path) -> str | None:
@@ -425,18 +442,27 @@ def write_bom(result: BuildResult, folder: Path) -> str:
 
 def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | None = None,
           progress: Callable[[str], None] | None = None, ros2_package: bool = False,
-          swim: bool = False) -> BuildResult:
+          swim: bool = False, calibration: str | Path | None = None) -> BuildResult:
     """Build the design in ``params_file`` into ``out_dir`` (see the module docstring and swiftfin/outdir.py).
 
     The parameter file is read once: the parts are made from, and the manifest hashes, the bytes parsed.
     ``out_dir`` is checked before any work and replaced only if it holds a previous build and nothing else.
     ``ros2_package``: also write ``robot/swiftfin_description/``, a ROS 2 description package (exports.robot).
     ``swim``: also swim the exported fish in MuJoCo (:func:`swim_results`) and show it in the report.
+    ``calibration``: a calibration file (core.calibration; ``swiftfin fit joint`` writes one), read and checked
+    before any work: its revised design keys replace the file's, its joints' damping, friction and cable
+    stiffness go into the simulator files, and the report's rules use them; a copy goes into the build.
     """
     from swiftfin.layout.design import load_design_source
 
     params_file = Path(params_file)
     p, raw = load_design_source(params_file)  # ParamError -> exit 2, nothing written
+    cal = None
+    if calibration is not None:
+        from swiftfin.core.calibration import load_calibration
+        cal = load_calibration(calibration, p)    # ParamError -> exit 2, nothing written
+        changes = cal.changes(p)
+        p = cal.revised_params(p)
     out = Path(out_dir)
     keep = (params_file,)
     outdir.check_out_dir(out, keep)
@@ -444,6 +470,8 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
     tmp = outdir.make_temp_dir(out)
     try:
         result = build_parts(p, cache, progress)
+        if cal is not None:
+            result.calibration, result.calibration_changes = cal, changes
         if progress:
             progress("  checking the assembly over the joints' range of motion ...")
         check_built(result, cache, progress)
@@ -533,7 +561,7 @@ def swim_results(mjcf_path: Path, params: Params, jobs: int | None = 1, duration
              "slip_reactive": by[(f, True)] / (f * lam)} for f in SWIM_FREQUENCIES_HZ]
 
 
-def report_findings(params: Params, parts, mass_properties: dict | None) -> tuple[list, list]:
+def report_findings(params: Params, parts, mass_properties: dict | None, calibration=None) -> tuple[list, list]:
     """What the report shows and does not compute: the design rules' findings (with the build's mass properties
     and the printed parts' boxes when there are any) and the paper audit's entries."""
     from swiftfin.design_rules import design_findings
@@ -542,7 +570,7 @@ def report_findings(params: Params, parts, mass_properties: dict | None) -> tupl
 
     rparts = [as_report_part(x) for x in parts] if parts else []
     boxes = {x.label: x.print_size_mm for x in rparts if x.printed and x.print_size_mm}
-    return design_findings(params, mass_properties, boxes), list(audit_entries())
+    return design_findings(params, mass_properties, boxes, calibration), list(audit_entries())
 
 
 def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
@@ -561,7 +589,12 @@ def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
             mp, note = json.loads(mpath.read_text()), f"From {MASS_PROPERTIES_NAME} in this build."
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
             note = f"{MASS_PROPERTIES_NAME} in this build is not readable JSON ({exc})."
-    findings, audit = report_findings(result.params, result.parts, mp)
-    return write_report(result.params, out, parts=result.parts, mass_properties=mp, fit_dir=fit_dir,
+    findings, audit = report_findings(result.params, result.parts, mp, result.calibration)
+    rules_note = ""
+    if result.calibration is not None:
+        rules_note = (f"Evaluated with the measured values of {CALIBRATION_NAME} (a copy of "
+                      f"{result.calibration.path}, in this build): " + ("; ".join(result.calibration_changes)
+                                                                       or "none of its values applies") + ".")
+    return write_report(result.params, out, parts=result.parts, mass_properties=mp, fit_dir=fit_dir, rules_note=rules_note,
                         findings=findings, audit=audit, progress=progress, params_name=params_name, mass_note=note,
                         memo=memo, plots=plots, jobs=build_jobs(), swim=swim)

@@ -174,3 +174,86 @@ def test_default_design_builds_end_to_end(env, capsys):
     # STEP included (fixed header dates, occurrence ids renumbered per file)
     assert main(["build", str(DEFAULT_DESIGN), "--out", "fresh", "--no-cache"]) == 0
     assert (env / "fresh" / "manifest.json").read_text() == (env / "build" / "manifest.json").read_text()
+
+
+@pytest.mark.slow
+def test_the_loop_closes_from_a_bench_log_to_a_calibrated_build(env, capsys):
+    """Issue 14 item 4, end to end: a bench log of known truth (`swiftfin synth`, a bench file's heavier link,
+    0.02 N m s/rad of hinge damping) -> `swiftfin fit joint --bench --mjcf` (the MJCF of a plain build) writes
+    calibration.toml and replays the log through the MJCF's joint in MuJoCo, as exported and as calibrated ->
+    `swiftfin build --calibration` writes an MJCF whose joint MuJoCo reads as the replay's calibrated drive. The
+    calibrated replay's error is lower than the exported one's and near the sensor's noise. Runs after the
+    end-to-end build in this file, so every part comes from the session's cache."""
+    from tests.conftest import require_module
+    mujoco = require_module("mujoco", "replays the log and loads the calibrated MJCF")
+
+    assert main(["build", str(DEFAULT_DESIGN), "--out", "plain"]) == 0
+    (env / "bench.toml").write_text("link_inertia_kg_m2 = 2e-5\nbearing_damping_nm_s_rad = 3e-4\n")
+    assert main(["synth", "joint", "--out", "log.csv", "--bench", "bench.toml", "--effect", "viscous_friction=0.02",
+                 "--seed", "5"]) == 0
+    assert main(["fit", "joint", "log.csv", "--bench", "bench.toml", "--mjcf", "plain/robot/swiftfin.xml",
+                 "--out", "fit"]) == 0
+    out = capsys.readouterr().out
+    rep = json.loads((env / "fit" / "fit_report.json").read_text())
+    before, after = rep["replay"]["before"]["rmse_rad"], rep["replay"]["after"]["rmse_rad"]
+    assert after < 0.2 * before and after < 2.0 * rep["final"]["rmse_holdout"], (before, after)
+    assert "replay in MuJoCo through joint_4" in out and (env / "fit" / "replay.png").is_file()
+    cal = tomllib.loads((env / "fit" / "calibration.toml").read_text())
+    assert cal["joint_4"]["hinge_damping_nm_s_rad"]["value"] == pytest.approx(0.02 + 3e-4, rel=0.03)
+    assert main(["build", str(DEFAULT_DESIGN), "--out", "calibrated", "--calibration", "fit/calibration.toml"]) == 0
+    m = mujoco.MjModel.from_xml_path(str(env / "calibrated" / "robot" / "swiftfin.xml"))
+    jid = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, "joint_4")
+    act = next(a for a in range(m.nu) if m.actuator_trnid[a][0] == jid)
+    drive = rep["replay"]["after"]["drive"]
+    assert m.dof_damping[m.jnt_dofadr[jid]] == pytest.approx(drive["damping_nm_s_rad"], rel=1e-9)
+    assert m.actuator_gainprm[act][0] == pytest.approx(drive["kp_nm_rad"], rel=1e-9)
+    assert -m.actuator_biasprm[act][2] == pytest.approx(drive["kv_nm_s_rad"], abs=1e-12)
+    # the report's rules are re-evaluated with the measured damping (the load model's hinge torque)
+    assert "calibration.toml" in (env / "calibrated" / "report.html").read_text()
+
+
+@pytest.mark.slow
+def test_a_calibrated_build_carries_the_measured_joint_into_the_simulators(env, capsys):
+    """`swiftfin build --calibration FILE` (issue 14: close the loop): the measured hinge damping, dry friction and
+    drive stiffness of joint 4 reach the MJCF (damping, frictionloss, the position servo's kp, no kv and no
+    armature) and the URDF (dynamics), as MuJoCo and PyBullet read them; the other joints keep the
+    design's values; the build keeps a copy of the file in its manifest. Runs after the end-to-end build in this
+    file, so every part comes from the session's cache."""
+    from tests.conftest import require_module
+    from swiftfin.layout.servo import UNCALIBRATED_DAMPING_NM_S_RAD, joint_stiffness_nm_rad
+    from swiftfin.layout.design import load_design
+
+    mujoco = require_module("mujoco", "loads the calibrated MJCF")
+    c, tc, k = 0.0213, 0.0117, 1.7
+    (env / "cal.toml").write_text(
+        "[joint_4]\n"
+        f"hinge_damping_nm_s_rad = {{ value = {c}, std = 0.0004, effect = \"viscous_friction\" }}\n"
+        f"hinge_friction_nm = {{ value = {tc}, std = 0.0003, effect = \"coulomb_friction\" }}\n"
+        f"joint_stiffness_nm_rad = {{ value = {k}, std = 0.02, effect = \"cable_compliance\" }}\n")
+    rc = main(["build", str(DEFAULT_DESIGN), "--out", "cal_build", "--calibration", "cal.toml"])
+    assert rc == 0, capsys.readouterr().err[-3000:]
+    out = env / "cal_build"
+    assert verify_manifest(out) == []
+    assert (out / "calibration.toml").read_bytes() == (env / "cal.toml").read_bytes()
+    assert "calibration.toml" in {f["path"] for f in json.loads((out / "manifest.json").read_text())["files"]}
+    m = mujoco.MjModel.from_xml_path(str(out / "robot" / "swiftfin.xml"))
+    dof = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, m.dof_jntid[i]): i for i in range(m.nv)}
+    assert m.dof_damping[dof["joint_4"]] == pytest.approx(c) and m.dof_frictionloss[dof["joint_4"]] == pytest.approx(tc)
+    for j in (1, 2, 3):
+        assert m.dof_damping[dof[f"joint_{j}"]] == pytest.approx(UNCALIBRATED_DAMPING_NM_S_RAD)
+        assert m.dof_frictionloss[dof[f"joint_{j}"]] == 0.0
+    motor = joint_stiffness_nm_rad(load_design(DEFAULT_DESIGN))
+    kp = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a): m.actuator_gainprm[a][0] for a in range(m.nu)}
+    assert kp["motor_4"] == pytest.approx(k) and kp["motor_1"] == pytest.approx(motor)
+    kv = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a): -m.actuator_biasprm[a][2] for a in range(m.nu)}
+    assert kv["motor_4"] == 0.0 and kv["motor_1"] > 0          # a measured joint's damping is all its damping
+    pybullet = require_module("pybullet", "loads the calibrated URDF")
+    cid = pybullet.connect(pybullet.DIRECT)
+    try:
+        body = pybullet.loadURDF(str(out / "robot" / "swiftfin.urdf"))
+        info = {pybullet.getJointInfo(body, i)[1].decode(): pybullet.getJointInfo(body, i)
+                for i in range(pybullet.getNumJoints(body))}
+        assert info["joint_4"][6] == pytest.approx(c) and info["joint_4"][7] == pytest.approx(tc)  # damping, friction
+        assert info["joint_1"][7] == 0.0
+    finally:
+        pybullet.disconnect(cid)

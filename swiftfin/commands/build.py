@@ -20,6 +20,10 @@ def configure(ap) -> None:
     ap.add_argument("--swim", action="store_true",
                     help="also swim the exported fish in MuJoCo at 1, 2 and 3 Hz (quasi-steady, and with Lighthill's "
                          "reactive force) and show speed, stride and slip in the report (about 20 s of CPU)")
+    ap.add_argument("--calibration", metavar="FILE",
+                    help="a calibration file (swiftfin fit joint writes one): the measured hinge damping, friction "
+                         "and cable stiffness go into the simulator files, the measured cable modulus into the "
+                         "design, and the report's rules use them")
     ap.set_defaults(func=run)
 
 
@@ -30,7 +34,7 @@ def run(args) -> int:
     cache = None if args.no_cache else FamilyCache(args.cache_dir)
     print(f"swiftfin build: {args.params_file} -> {args.out}/", file=sys.stderr, flush=True)
     result = build(args.params_file, args.out, cache=cache, progress=stderr_progress,
-                   ros2_package=args.ros2_package, swim=args.swim)
+                   ros2_package=args.ros2_package, swim=args.swim, calibration=args.calibration)
     print(summary_table(result))
     import json
     listed = json.loads((Path(args.out) / "manifest.json").read_text())["files"]

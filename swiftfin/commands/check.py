@@ -48,6 +48,9 @@ def configure(ap) -> None:
     ap.add_argument("--mass-properties", metavar="FILE", help="JSON mass properties of the built robot")
     ap.add_argument("--parts-bbox", metavar="FILE", help="JSON print-orientation bounding boxes of the built parts [mm]")
     ap.add_argument("--loads", action="store_true", help="print the per-joint loads and their sensitivities")
+    ap.add_argument("--calibration", metavar="FILE",
+                    help="a calibration file (swiftfin fit joint writes one): the rules use the measured cable "
+                         "stiffness and the hinges' measured damping and friction")
     ap.set_defaults(func=run)
 
 
@@ -138,14 +141,22 @@ def loads_report(ctx: RuleContext) -> dict:
 
 def run(args) -> int:
     params = load_design(args.params_file)
+    cal = None
+    if args.calibration:
+        from swiftfin.core.calibration import load_calibration
+        cal = load_calibration(args.calibration, params)
+        before, params = params, cal.revised_params(params)
     mp = None
     if args.mass_properties:
         mp = MassProperties.from_dict(_read_json(args.mass_properties, MASS_PROPERTIES), args.mass_properties)
     boxes = _bboxes(args.parts_bbox) if args.parts_bbox else None
-    ctx = RuleContext(params, mass_properties=mp, part_bboxes_mm=boxes)
+    ctx = RuleContext(params, mass_properties=mp, part_bboxes_mm=boxes, calibration=cal)
     findings = run_rules(ctx)
     worst = verdict(findings)
     print(f"swiftfin check {args.params_file}")
+    if cal is not None:
+        changes = cal.changes(before)
+        print(f"calibrated by {args.calibration}: " + ("; ".join(changes) if changes else "nothing to apply"))
     print(format_table(findings))
     notes = [f for f in findings if f.severity >= Severity.NOT_EVALUATED and f.detail]
     if notes:
@@ -154,7 +165,7 @@ def run(args) -> int:
             print(f"  {f.rule_id} ({f.severity.name}): {f.detail}")
     counts = {s.name: sum(1 for f in findings if f.severity is s) for s in Severity}
     print(f"\nverdict: {worst.name}  (" + ", ".join(f"{v} {k}" for k, v in counts.items() if v) + ")")
-    report = {"params_file": str(args.params_file), "verdict": worst.name,
+    report = {"params_file": str(args.params_file), "calibration": args.calibration, "verdict": worst.name,
               "findings": [f.to_dict() for f in findings]}
     if args.loads or args.json:
         report["loads"] = loads_report(ctx)

@@ -1,6 +1,8 @@
 """``swiftfin fit FAMILY DATA``: compare a model family with measured data, find the effects it lacks, report.
 
-Writes ``DIR/fit_report.json``, ``DIR/fit_report.md`` and PNG plots (see :mod:`calibration.report`).
+Writes ``DIR/fit_report.json``, ``DIR/fit_report.md`` and PNG plots (see :mod:`calibration.report`); the joint
+family also writes ``DIR/calibration.toml``, the physical values it found (:mod:`calibration.closing`), which
+``swiftfin build --calibration`` and ``swiftfin check --calibration`` read back.
 Bad data (missing columns, broken time stamps, long NaN gaps, degrees in a ``_rad`` column, a log too short or
 too poorly excited) exits 2 with a message naming the file, the column and the row; short NaN gaps are filled
 and reported as warnings. Bad options (unknown family, several files for a one-file family, a fraction outside
@@ -55,6 +57,13 @@ def configure(ap) -> None:
                     help="smallest relative drop of the held-out RMSE that counts, in [0, 1) "
                          "(default: the family's; joint, drive 0.10; body 0.03)")
     ap.add_argument("--no-plots", action="store_true", help="write the JSON and markdown only")
+    ap.add_argument("--bench", metavar="FILE", default=None,
+                    help="joint family: bench file, the link on the hinge and its bearing (link_inertia_kg_m2, "
+                         "bearing_damping_nm_s_rad; default a 10 g printed arm in air)")
+    ap.add_argument("--mjcf", metavar="FILE", default=None,
+                    help="joint family: an exported MJCF (a build's robot/swiftfin.xml); the measured command is "
+                         "replayed in MuJoCo through its joint, as exported and as calibrated, on the bench's "
+                         "link, and the report gives both errors")
     ap.set_defaults(func=run)
 
 
@@ -63,6 +72,8 @@ def _load(fam, path: str, design, args, notes: list) -> object:
     params = inspect.signature(fam.load).parameters
     if "joint" in params and args.joint is not None:
         kw["joint"] = args.joint - 1
+    if "bench" in params and args.bench_:
+        kw["bench"] = args.bench_
     if "notes" in params:
         kw["notes"] = notes
     return fam.load(path, design, **kw)
@@ -129,8 +140,15 @@ def run(args) -> int:
         raise UserError(str(exc.args[0])) from None
     except ModuleNotFoundError as exc:
         raise UserError(f"family {args.family!r} is not available in this installation ({exc.name})") from None
-    if args.joint is not None and args.family != "joint":
-        raise UserError(f"--joint applies to the joint family only, not {args.family!r}")
+    for opt in ("joint", "bench", "mjcf"):
+        if getattr(args, opt) is not None and args.family != "joint":
+            raise UserError(f"--{opt} applies to the joint family only, not {args.family!r}")
+    args.bench_ = None
+    if args.bench:
+        from swiftfin.calibration.bench import load_bench
+        args.bench_ = load_bench(args.bench)
+    if args.mjcf is not None and not Path(args.mjcf).is_file():
+        raise UserError(f"--mjcf {args.mjcf}: file not found (give a build's robot/swiftfin.xml)")
     if args.max_effects < 0:
         raise UserError(f"--max-effects {args.max_effects}: must be >= 0")
     if args.alpha is not None and not 0.0 < args.alpha < 1.0:
@@ -140,6 +158,9 @@ def run(args) -> int:
     train_files, hold_files, fraction = _data_sets(fam, args)
     check_output_dir(args.out)            # before the fit: a path that cannot be written fails now, not after
     design = load_design(args.design)
+    if args.mjcf is not None:             # before the fit: an MJCF MuJoCo cannot load, or without the joint, fails now
+        from swiftfin.calibration.replay import joint_from_mjcf
+        joint_from_mjcf(args.mjcf, args.joint if args.joint is not None else design.joints.count)
     notes: list[str] = []
     if fam.load_many is not None and (len(train_files) > 1 or len(hold_files) > 1):
         kw = {"notes": notes} if "notes" in inspect.signature(fam.load_many).parameters else {}
@@ -159,6 +180,8 @@ def run(args) -> int:
         rep = write_report(cal, args.out, data=data, notes=notes, plots=not args.no_plots)
     except OSError as exc:
         raise UserError(f"--out {args.out}: cannot write the report ({exc.strerror or exc})") from None
+    cal_file = _write_calibration(args, rep, design, train_files[0]) if args.family == "joint" else None
+    replayed = _replay(args, train, design, cal_file, not args.no_plots) if args.mjcf else None
     base, fin, unit = rep["baseline"], rep["final"], rep["units"]["target"]
     print(f"{args.family}: {rep['n_samples']} samples; held-out RMSE {base['rmse_holdout']:.4g} (base) -> "
           f"{fin['rmse_holdout']:.4g} {unit} (final)")
@@ -175,4 +198,60 @@ def run(args) -> int:
     if rep["unexplained_structure"]:
         print("  unexplained structure remains in the residual (no candidate explains it)")
     print(f"report: {Path(args.out) / 'fit_report.md'}")
+    if cal_file is not None:
+        print(f"calibration: {cal_file} (use it with swiftfin build/check --calibration)")
+    if replayed is not None:
+        print(f"replay in MuJoCo through joint_{replayed['joint']} of {replayed['mjcf']} on the bench's link: RMSE "
+              f"{replayed['before']['rmse_rad']:.4g} rad as exported -> {replayed['after']['rmse_rad']:.4g} rad "
+              f"calibrated")
     return 0
+
+
+def _replay(args, ctx, design, cal_file: Path, plots: bool) -> dict:
+    """Replay the log's command through ``--mjcf``'s joint, as exported and as calibrated (calibration.replay);
+    the numbers go into ``fit_report.json`` and ``fit_report.md``, the traces into ``replay.png``."""
+    import json
+
+    from swiftfin.calibration.joint import BENCH_LINK_INERTIA_KG_M2
+    from swiftfin.calibration.replay import plot_replay, replay_markdown, replay_report
+    from swiftfin.core.calibration import load_calibration
+    from swiftfin.core.jsonable import jsonable
+
+    joint = args.joint if args.joint is not None else design.joints.count
+    cal = load_calibration(cal_file, design)
+    params = cal.revised_params(design)
+    inertia = args.bench_.link_inertia_kg_m2 if args.bench_ else BENCH_LINK_INERTIA_KG_M2
+    res = replay_report(ctx.t, ctx.signals["input"], ctx.y, ctx.meta["design"], args.mjcf, joint, params,
+                        cal.joint(joint), inertia)
+    out = Path(args.out)
+    if plots:
+        plot_replay(res, out / "replay.png")
+    summary = {k: v for k, v in res.items() if not k.endswith("_rad") and k != "t_s"}
+    rep_file = out / "fit_report.json"
+    rep = json.loads(rep_file.read_text())
+    rep["replay"] = jsonable(summary)
+    rep_file.write_text(json.dumps(rep, indent=2, allow_nan=False))
+    with open(out / "fit_report.md", "a", encoding="utf-8") as fh:
+        fh.write("\n" + replay_markdown(summary, plots))
+    return summary
+
+
+def _write_calibration(args, rep: dict, design, log: Path) -> Path:
+    """``DIR/calibration.toml``: the physical values the joint fit found (calibration.closing), which
+    ``swiftfin build --calibration`` and ``swiftfin check --calibration`` read back."""
+    from swiftfin.calibration.closing import calibration_from_report
+    from swiftfin.core.calibration import FILE_NAME as CALIBRATION_NAME, calibration_toml
+    from swiftfin.layout.design import default_design_path
+
+    joint = args.joint if args.joint is not None else design.joints.count
+    out = Path(args.out) / CALIBRATION_NAME
+    from swiftfin.calibration.bench import Bench
+    cal = calibration_from_report(rep, joint, log, args.design or default_design_path(),
+                                  Path(args.out) / "fit_report.json",
+                                  (args.bench_ or Bench()).bearing_damping_nm_s_rad)
+    try:
+        out.write_text(calibration_toml(cal), encoding="utf-8")
+    except OSError as exc:
+        raise UserError(f"--out {args.out}: cannot write {CALIBRATION_NAME} ({exc.strerror or exc})") from None
+    return out
+
