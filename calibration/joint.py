@@ -50,6 +50,7 @@ from pathlib import Path
 import numpy as np
 
 from swiftfin.layout.geometry import cable_routes, spool_dims
+from swiftfin.layout.servo import joint_stiffness_nm_rad
 from swiftfin.calibration import effects as op
 from swiftfin.calibration.model import Context, Effect, Family, Param
 from swiftfin.calibration.io import Column, read_log
@@ -165,11 +166,23 @@ class JointDesign:
     joint_microstep_rad: float
     route_length_m: float          # mean free length of the two cables
     side_stiffness_n_m: float      # E A / L of one side
-    stiffness_nm_rad: float        # K = 2 k d_mount^2 at the joint
+    stiffness_nm_rad: float        # K at the joint, the whole drive's: the cable pair 2 k d^2 in series with the motor
     pretension_n: float
     youngs_modulus_gpa: float
     link_inertia_kg_m2: float = BENCH_LINK_INERTIA_KG_M2
     bearing_damping_nm_s_rad: float = BENCH_BEARING_DAMPING_NM_S_RAD
+    motor_stiffness_nm_rad: float = math.inf    # the stepper held at its step, seen at the joint
+
+    @property
+    def cable_stiffness_nm_rad(self) -> float:
+        """The cable pair's share of the drive's stiffness at the joint, 2 k d^2 [N m/rad]."""
+        return 2.0 * self.side_stiffness_n_m * self.moment_arm_m ** 2
+
+    def cable_share(self, drive_stiffness_nm_rad: float) -> float:
+        """The cable pair's stiffness [N m/rad] that, in series with the motor's, gives ``drive_stiffness_nm_rad``
+        (inf where the motor alone is that soft)."""
+        inv = 1.0 / drive_stiffness_nm_rad - 1.0 / self.motor_stiffness_nm_rad
+        return math.inf if inv <= 0 else 1.0 / inv
 
     @property
     def slip_quantum_rad(self) -> float:
@@ -190,8 +203,10 @@ def joint_design(p: Params, joint: int | None = None) -> JointDesign:
     lengths = [rt.length_mm / 1000.0 for rt in cable_routes(p) if rt.joint == j]
     L = float(np.mean(lengths))
     k = cable_stiffness_n_m(p.cable.youngs_modulus_gpa * 1e9, p.cable.diameter_mm / 1000.0, L)
+    k_motor = joint_stiffness_nm_rad(p)
+    drive = 1.0 / (1.0 / (2.0 * k * m * m) + 1.0 / k_motor)
     return JointDesign(j, r, m, r / m, full, q, joint_resolution_rad(full, p.motor.microsteps, m, r), L, k,
-                       2.0 * k * m * m, p.cable.pretension_n, p.cable.youngs_modulus_gpa)
+                       drive, p.cable.pretension_n, p.cable.youngs_modulus_gpa, motor_stiffness_nm_rad=k_motor)
 
 
 def rigid_joint_angle(motor_angle_rad: np.ndarray, d: JointDesign) -> np.ndarray:
@@ -378,8 +393,13 @@ def _cable_compliance() -> Effect:
     def phys(v, s, ctx):
         d = _d(ctx)
         f, sf = v["stiffness_factor"], s["stiffness_factor"]
-        return {"joint_stiffness_nm_rad": (f * d.stiffness_nm_rad, sf * d.stiffness_nm_rad, "N m/rad"),
-                "effective_modulus_gpa": (f * d.youngs_modulus_gpa, sf * d.youngs_modulus_gpa, "GPa")}
+        K, sK = f * d.stiffness_nm_rad, sf * d.stiffness_nm_rad
+        # the cable's share, the motor's stiffness taken as the design's (its error propagated to first order)
+        kc = d.cable_share(K)
+        skc = sK * (kc / K) ** 2 if math.isfinite(kc) else math.inf
+        e = d.youngs_modulus_gpa / d.cable_stiffness_nm_rad
+        return {"joint_stiffness_nm_rad": (K, sK, "N m/rad"),
+                "effective_modulus_gpa": (kc * e, skc * e, "GPa")}
 
     def plaus(v, ctx):
         return [] if v["stiffness_factor"] < 0.9 else ["stiffness within 10 % of the design: no compliance effect"]
@@ -554,7 +574,7 @@ def _delay() -> Effect:
               fingerprint="a cross-correlation peak of residual and input rate at a lag; a phase lag growing in "
                           "proportion to frequency with no loss of gain: residual against velocity",
               linear=(_unit_coef(),),
-              nonlinear=(Param("delay_s", "s", 0.0, 0.1, "sensor latency", grid=21),),
+              nonlinear=(Param("delay_s", "s", 2e-4, 0.1, "sensor latency", scale="log", grid=28),),
               fingerprint_axis="velocity",
               columns_fn=cols)
 

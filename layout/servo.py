@@ -64,7 +64,8 @@ def joint_servo(p: Params, j: int, measured=None) -> Servo:
     rotor's reflected inertia on the hinge, a placeholder hinge damping. With one, the model the joint fit measured
     it with (calibration/joint.py): the commanded angle drives the hinge through one stiffness, the measured one
     (the whole drive's, stepper and cables in series, as the fit sees it between command and joint; else the
-    design's cable pair, which the fit's base model assumed and the log did not contradict), the measured hinge
+    design's cable pair in series with the stepper, which the fit's base model assumed and the log did not
+    contradict), the measured hinge
     damping as the only damping (kv = 0: the fit's damping is all the damping the bench saw), the measured dry
     friction, and no armature: the rotor sits behind the cable, not on the hinge.
 
@@ -75,9 +76,9 @@ def joint_servo(p: Params, j: int, measured=None) -> Servo:
     kp = joint_stiffness_nm_rad(p)
     if measured is None:
         return Servo(UNCALIBRATED_DAMPING_NM_S_RAD, 0.0, kp, kp * SERVO_DERIVATIVE_TIME_S, reflected_armature_kg_m2(p))
+    drive = measured.get("joint_stiffness_nm_rad") or 1.0 / (1.0 / cable_pair_stiffness_nm_rad(p, j) + 1.0 / kp)
     return Servo(measured.get("hinge_damping_nm_s_rad") or UNCALIBRATED_DAMPING_NM_S_RAD,
-                 measured.get("hinge_friction_nm") or 0.0,
-                 measured.get("joint_stiffness_nm_rad") or cable_pair_stiffness_nm_rad(p, j), 0.0, 0.0)
+                 measured.get("hinge_friction_nm") or 0.0, drive, 0.0, 0.0)
 
 
 def joint_torque_limit_nm(p: Params) -> float:

@@ -28,7 +28,12 @@ def test_design_stiffness_by_hand(d, default_params):
     L = np.mean([r.length_mm for r in cable_routes(default_params) if r.joint == 3]) / 1000
     k = 2.0e9 * math.pi * 0.001**2 / 4 / L               # E A / L of one 1 mm nylon cable, E = 2 GPa
     assert d.side_stiffness_n_m == pytest.approx(k, rel=1e-12)
-    assert d.stiffness_nm_rad == pytest.approx(2 * k * 0.015**2, rel=1e-12)
+    assert d.cable_stiffness_nm_rad == pytest.approx(2 * k * 0.015**2, rel=1e-12)
+    # the stepper held at its step (0.42 N m pi / (2 x 1.8 deg), times (15 / 10)^2 at the joint) in series
+    motor = 0.42 * math.pi / (2 * math.radians(1.8)) * (15 / 10) ** 2
+    assert d.motor_stiffness_nm_rad == pytest.approx(motor, rel=1e-12)
+    assert d.stiffness_nm_rad == pytest.approx(1 / (1 / (2 * k * 0.015**2) + 1 / motor), rel=1e-12)
+    assert d.cable_share(d.stiffness_nm_rad) == pytest.approx(d.cable_stiffness_nm_rad, rel=1e-9)
     assert d.ratio == pytest.approx(10 / 15)
     assert d.joint_microstep_rad == pytest.approx(math.radians(1.8) / 16 * 10 / 15)
     assert d.slip_quantum_rad == pytest.approx(4 * math.radians(1.8) * 10 / 15)
@@ -105,6 +110,10 @@ def test_lost_steps_are_four_full_steps(d):
     big = np.abs(de) > 0.5
     starts = np.flatnonzero(big & ~np.r_[False, big[:-1]])
     ends = np.flatnonzero(big & ~np.r_[big[1:], False])
+    # runs less than a window apart are one slip: the link's ringing after it can dip the change under the
+    # threshold for a sample (seen with the drive's stiffness in series with the stepper's)
+    apart = starts[1:] - ends[:-1] > w
+    starts, ends = starts[np.r_[True, apart]], ends[np.r_[apart, True]]
     steps = np.round([de[a:b + 1][np.argmax(np.abs(de[a:b + 1]))] for a, b in zip(starts, ends)])
     assert steps.size == log.n_slips
     assert set(np.abs(steps)) == {1.0}
