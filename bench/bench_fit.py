@@ -36,6 +36,7 @@ SINDY_GRID = {
     "viscous_friction": ("damping_nm_s_rad", (0.005, 0.02, 0.08)),
     "added_mass": ("added_inertia_kg_m2", (1e-4, 3e-4, 1e-3)),
     "backlash": ("gap_rad", (0.003, 0.01, 0.03)),
+    "cable_slack": ("slack_rad", (0.0015, 0.005, 0.015)),
     "sensor_delay": ("delay_s", (0.003, 0.01, 0.03)),
     "lost_steps": ("slip_acceleration_rad_s2", (120.0, 150.0, 170.0)),
 }

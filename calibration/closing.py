@@ -16,6 +16,7 @@ coulomb_friction       ``hinge_friction_nm``                  ``gain x friction_
 cable_compliance       ``joint_stiffness_nm_rad``;            the effect's own physical values
                        design ``cable.youngs_modulus_gpa``
 backlash               ``dead_band_rad``                      ``gain x gap_rad``
+cable_slack            ``dead_band_rad``                      twice the fitted slack (lost pretension: re-tension)
 added_mass             ``added_inertia_kg_m2``                as fitted
 quadratic_drag         ``drag_coefficient_nm_s2_rad2``        the effect's physical value (b = (b/K) K)
 effective_radius       ``spool_radius_ratio``                 1 + ``ratio_error``
@@ -85,6 +86,8 @@ def joint_values(report: dict, bearing_damping_nm_s_rad: float = BENCH_BEARING_D
             put("cable.youngs_modulus_gpa", _phys(e, "effective_modulus_gpa"), design)
         elif name == "backlash":
             put("dead_band_rad", _gain_times(e, "gap_rad"))
+        elif name == "cable_slack":
+            put("dead_band_rad", _phys(e, "dead_band_rad"))
         elif name == "added_mass":
             put("added_inertia_kg_m2", _p(e, "added_inertia_kg_m2"))
         elif name == "quadratic_drag":

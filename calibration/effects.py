@@ -170,3 +170,34 @@ def threshold_events(a: np.ndarray, threshold: float) -> np.ndarray:
     ev = np.zeros(a.size)
     ev[entry] = np.sign(a[entry])
     return np.cumsum(ev)
+
+
+_DEADZONE = None
+
+
+def deadzone_drive(t: np.ndarray, u: np.ndarray, stiffness: float, inertia: float, damping: float,
+                   half_width: float, substeps: int = 5) -> np.ndarray:
+    """A link of ``inertia`` and ``damping`` driven toward ``u`` through a spring of ``stiffness`` with a dead band
+    of +- ``half_width`` (no force inside it: a slack cable pair), starting at rest at u[0]: semi-implicit Euler
+    at ``substeps`` steps per sample, u held over each sample; compiled with numba on first use."""
+    global _DEADZONE
+    if _DEADZONE is None:
+        from numba import njit
+
+        @njit(cache=True, nogil=True)
+        def run(u, h, n_sub, K, J, c, s):
+            out = np.empty(u.size)
+            th = u[0]
+            w = 0.0
+            for i in range(u.size):
+                for _ in range(n_sub):
+                    e = u[i] - th
+                    f = K * (e - s) if e > s else (K * (e + s) if e < -s else 0.0)
+                    w = (w + h * f / J) / (1.0 + h * c / J)
+                    th += h * w
+                out[i] = th
+            return out
+        _DEADZONE = run
+    h = uniform_dt(t) / substeps
+    return _DEADZONE(np.ascontiguousarray(u, dtype=np.float64), h, substeps, float(stiffness), float(inertia),
+                     float(damping), float(half_width))

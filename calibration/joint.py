@@ -546,11 +546,50 @@ def _backlash() -> Effect:
         return {"cable_slack_mm": (1000 * v["gap_rad"] * d.moment_arm_m, 1000 * s["gap_rad"] * d.moment_arm_m, "mm")}
     return _play_effect(
         "backlash",
-        "A dead band: slack cable (lost pretension), play of the spool on the shaft flat or of the hinge pin; "
-        "the motor turns through the gap before the joint follows (paper eq. 37).",
+        "A dead band held by friction: play of the spool on the shaft flat or of the hinge pin, with the cables "
+        "still pretensioned (a slack cable is cable_slack); the motor turns through the gap before the joint "
+        "follows (paper eq. 37).",
         "the residual jumps by the gap at each reversal and stays at +-gap/2 against the motion: concentrated "
         "after reversals, residual against velocity",
         "gap_rad", "rad", 2e-4, 0.2, lambda ctx, x: 0.5 * x, phys, "dead band")
+
+
+def _slack() -> Effect:
+    """A pull-pull pair that has lost its pretension (issue 14 item 2): each cable pulls only once stretched past
+    its slack, so inside a dead band of +- s the link floats on its own inertia and damping, and outside it one
+    side pulls alone (half the pair's stiffness, in series with the stepper's)."""
+    def slack_stiffness(d):
+        return 1.0 / (2.0 / d.cable_stiffness_nm_rad + 1.0 / d.motor_stiffness_nm_rad)
+
+    def cols(ctx, nl):
+        d = _d(ctx)
+        return op.deadzone_drive(ctx.t, ctx.base, slack_stiffness(d), d.link_inertia_kg_m2,
+                                 d.bearing_damping_nm_s_rad, nl["slack_rad"]) - ctx.base
+
+    def phys(v, s, ctx):
+        d = _d(ctx)
+        return {"slack_per_side_mm": (1000 * v["slack_rad"] * d.moment_arm_m, 1000 * s["slack_rad"] * d.moment_arm_m,
+                                      "mm"),
+                "dead_band_rad": (2 * v["slack_rad"], 2 * s["slack_rad"], "rad")}
+
+    def plaus(v, ctx):
+        T = ctx.meta.get("parent", ctx).signals.get("tension")
+        if T is None:
+            return []
+        t0 = _d(ctx).pretension_n
+        med = float(np.median(T))
+        return [] if med < 0.5 * t0 else [f"the load cell reads {med:.3g} N of the {t0:g} N pretension: the cables "
+                                          f"are not slack"]
+    return _E(name="cable_slack",
+              meaning="The cables have lost their pretension (creep, a slipped anchor): inside a dead band the link "
+                      "floats free between them, outside it one side pulls alone. The failure the design rules "
+                      "predict when a side goes slack (physics.no_slack_side).",
+              fingerprint="the residual jumps at each reversal, with the link's own ringing inside the band (not "
+                          "held by friction, unlike backlash); a load cell reads about zero tension",
+              linear=(_unit_coef(),),
+              nonlinear=(Param("slack_rad", "rad", 2e-4, 0.1, "half-width of the dead band in joint angle",
+                               scale="log", grid=16),),
+              fingerprint_axis="velocity", columns_fn=cols, physical_fn=phys, plausible_fn=plaus)
 
 
 def _creep() -> Effect:
@@ -615,7 +654,8 @@ def _lost_steps() -> Effect:
 
 
 EFFECTS: tuple[Effect, ...] = (_offset(), _effective_radius(), _cable_compliance(), _coulomb(), _viscous(),
-                               _quadratic_drag(), _added_mass(), _backlash(), _creep(), _delay(), _lost_steps())
+                               _quadratic_drag(), _added_mass(), _backlash(), _slack(), _creep(), _delay(),
+                               _lost_steps())
 
 EFFECT_NAMES = tuple(e.name for e in EFFECTS)
 

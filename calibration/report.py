@@ -40,6 +40,19 @@ def _holdout_view(cal: Calibrator) -> tuple[Context, np.ndarray]:
     return p.ctx, np.ones(p.ctx.n, bool)
 
 
+def noise_floor(cal: Calibrator) -> float:
+    """What no model can remove from the held-out error [target unit]: the standard deviation of the final
+    held-out residual's sample-to-sample differences over sqrt(2), which keeps white noise (sensor noise, the
+    encoder's steps) and drops anything slower than a few samples; series and held-out blocks are not
+    differenced across their joins."""
+    ctx, hold = _holdout_view(cal)
+    e = ctx.y - cal.predict(ctx)
+    series = ctx.series if ctx.series is not None else np.zeros(ctx.n, int)
+    ok = hold[1:] & hold[:-1] & (series[1:] == series[:-1])
+    d = np.diff(e)[ok]
+    return float(np.std(d) / np.sqrt(2.0)) if d.size > 2 else float("nan")
+
+
 def _shown_rows(cal: Calibrator, ctx: Context, hold: np.ndarray) -> np.ndarray:
     """Held-out rows of the series the family wants shown (:attr:`Family.plot_rows_fn`, e.g. the body's tail
     tip); all held-out rows when the family does not choose or its series has none held out."""
@@ -179,6 +192,10 @@ def markdown(rep: dict, plots: dict[str, str]) -> str:
         lines.append(f"| + {e['name']} | {_fmt(e['rmse_train_after'])} {u} | {_fmt(e['rmse_holdout_after'])} {u} |")
     lines.append("")
     fin = rep["final"]
+    nf = rep.get("noise_floor")
+    if nf is not None and math.isfinite(nf) and nf > 0:
+        lines += [f"Noise floor {_fmt(nf)} {u} (the held-out residual's sample-to-sample differences / sqrt 2: what "
+                  f"no model removes); the final held-out RMSE is {fin['rmse_holdout'] / nf:.2f} x it.", ""]
     lines.append(f"Final residual {'is white' if fin['residual_white'] else 'still has structure'} "
                  f"(structure score {_num(fin['diagnosis']['structure_score']):.3f}, threshold "
                  f"{rep['criterion']['whiteness_threshold']}).")
@@ -258,6 +275,7 @@ def write_report(cal: Calibrator, out_dir: str | Path, *, data: str = "", holdou
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rep = cal.report_dict()
+    rep["noise_floor"] = noise_floor(cal)
     rep["data"] = data
     rep["holdout"] = holdout or rep.get("holdout", "")
     rep["notes"] = list(notes or [])

@@ -48,10 +48,10 @@ EFFECTS = {
     "sensor_gain": (0.04, "sensor scale error, relative"),
 }
 LIBRARY_NAMES = {"viscous_friction": "viscous_friction", "coulomb_friction": "coulomb_friction",
-                 "cable_compliance": "cable_compliance", "added_mass": "added_mass", "cable_slack": "backlash",
+                 "cable_compliance": "cable_compliance", "added_mass": "added_mass", "cable_slack": "cable_slack",
                  "offset": "offset", "sensor_delay": "sensor_delay", "effective_radius": "effective_radius",
                  "quadratic_drag": "quadratic_drag", "lost_steps": "lost_steps"}
-"""Each in-library effect of this bench and the engine's name for it (a slack cable is the engine's dead band)."""
+"""Each in-library effect of this bench and the engine's name for it."""
 OUT_OF_LIBRARY = ("hinge_spring", "cogging", "sensor_gain")
 
 RATE_HZ = 1000.0

@@ -70,6 +70,6 @@ def test_the_engine_on_the_independent_bench(d, tmp_path):
     assert s["single_first"] >= FLOOR_SINGLE_FIRST, table
 
 
-FLOOR_SINGLE_FIRST = 21
-"""Single library effects named first of the 30 cases of seed 0, measured 2026-11-26 (bench_confusion.py: 64 of 90
+FLOOR_SINGLE_FIRST = 22
+"""Single library effects named first of the 30 cases of seed 0, measured 2026-11-26 (bench_confusion.py: 67 of 90
 over three seeds). A regression floor, not the issue's target."""

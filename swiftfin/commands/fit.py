@@ -183,8 +183,10 @@ def run(args) -> int:
     cal_file = _write_calibration(args, rep, design, train_files[0]) if args.family == "joint" else None
     replayed = _replay(args, train, design, cal_file, not args.no_plots) if args.mjcf else None
     base, fin, unit = rep["baseline"], rep["final"], rep["units"]["target"]
+    nf = rep.get("noise_floor")
+    floor = f"; noise floor {nf:.4g} {unit}" if nf is not None and nf == nf and nf > 0 else ""
     print(f"{args.family}: {rep['n_samples']} samples; held-out RMSE {base['rmse_holdout']:.4g} (base) -> "
-          f"{fin['rmse_holdout']:.4g} {unit} (final)")
+          f"{fin['rmse_holdout']:.4g} {unit} (final{floor})")
     for e in rep["added_effects"]:
         alt = f" (indistinguishable from {', '.join(e['indistinguishable_from'])})" if e["indistinguishable_from"] else ""
         print(f"  + {e['name']}: {e['rmse_holdout_before']:.4g} -> {e['rmse_holdout_after']:.4g}, "
