@@ -3,7 +3,7 @@
 
 A second input file beside the parameter file, so it lives with it in the foundation: this module parses and
 validates it and knows nothing of how a value was fitted (``swiftfin.calibration.closing``) or where it is used
-(``swiftfin.exports.robot_model`` for the simulator files, ``swiftfin.layout.loads`` for the rules)::
+(``swiftfin.layout.servo`` for the simulator files' joints, ``swiftfin.layout.loads`` for the rules)::
 
     # swiftfin calibration: written by `swiftfin fit joint`
     [source]
@@ -173,7 +173,7 @@ def calibration_from_dict(raw: dict, p: Params, source: str = "<dict>") -> Calib
                     src[k] = v
         elif top.startswith("joint_"):
             tail = top[len("joint_"):]
-            if not tail.isdigit() or not 1 <= int(tail) <= p.joints.count:
+            if not tail.isdigit() or tail != str(int(tail)) or not 1 <= int(tail) <= p.joints.count:
                 out.append(Problem(top, "(table)", f"expected joint_1 .. joint_{p.joints.count} (the design's "
                                                    f"joints, 1-based)"))
                 continue

@@ -124,6 +124,7 @@ def test_the_report_to_calibration_mapping(tmp_path):
 BAD = {
     "unknown table": ("[joints_4]\n", ["joints_4", "unknown table", "did you mean 'joint_1'"]),
     "joint beyond the design": ("[joint_9]\n", ["joint_9", "expected joint_1 .. joint_4"]),
+    "joint written twice": ("[joint_4]\n[joint_04]\n", ["joint_04", "expected joint_1 .. joint_4"]),
     "unknown quantity": ("[joint_4]\nhinge_dampin_nm_s_rad = { value = 0.1, std = 0.0, effect = \"v\" }\n",
                          ["joint_4.hinge_dampin_nm_s_rad", "did you mean 'hinge_damping_nm_s_rad'"]),
     "negative std": ("[joint_4]\nhinge_friction_nm = { value = 0.1, std = -1.0, effect = \"c\" }\n",
