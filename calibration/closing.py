@@ -59,6 +59,25 @@ def _confidence(e: dict) -> str:
     return "low" if e.get("indistinguishable_from") else (c if c in ("high", "medium", "low") else "low")
 
 
+#: effect -> [(quantity, how its value and standard error come from the fitted effect)], the table of the module
+#: docstring; a quantity named ``section.key`` is a design key the measurement revises. Hinge damping is handled
+#: apart (the bench's bearing damping plus the fit's term).
+MAPPING: dict[str, tuple[tuple[str, object], ...]] = {
+    "coulomb_friction": (("hinge_friction_nm", lambda e: _gain_times(e, "friction_torque_nm")),),
+    "cable_compliance": (("joint_stiffness_nm_rad", lambda e: _phys(e, "joint_stiffness_nm_rad")),
+                         ("cable.youngs_modulus_gpa", lambda e: _phys(e, "effective_modulus_gpa"))),
+    "backlash": (("dead_band_rad", lambda e: _gain_times(e, "gap_rad")),),
+    "cable_slack": (("dead_band_rad", lambda e: _phys(e, "dead_band_rad")),),
+    "added_mass": (("added_inertia_kg_m2", lambda e: _p(e, "added_inertia_kg_m2")),),
+    "quadratic_drag": (("drag_coefficient_nm_s2_rad2", lambda e: _phys(e, "drag_coefficient_nm_s2_rad2")),),
+    "effective_radius": (("spool_radius_ratio", lambda e: (1.0 + _p(e, "ratio_error")[0], _p(e, "ratio_error")[1])),),
+    "offset": (("sensor_offset_rad", lambda e: _p(e, "offset_rad")),),
+    "sensor_delay": (("sensor_delay_s", lambda e: _p(e, "delay_s")),),
+    "capstan_creep": (("creep_per_travel", lambda e: _p(e, "creep_per_travel")),),
+    "lost_steps": (("slip_rad", lambda e: _p(e, "slip_rad")),),
+}
+
+
 def joint_values(report: dict, bearing_damping_nm_s_rad: float = BENCH_BEARING_DAMPING_NM_S_RAD
                  ) -> tuple[dict[str, Measured], dict[str, Measured]]:
     """(the joint's measured quantities, the design keys they revise) from a joint fit's report.
@@ -73,36 +92,12 @@ def joint_values(report: dict, bearing_damping_nm_s_rad: float = BENCH_BEARING_D
     design: dict[str, Measured] = {}
     for e in report.get("added_effects", []):
         name, conf = e["name"], _confidence(e)
-
-        def put(q: str, vs: tuple[float, float], into=joint) -> None:
-            into[q] = Measured(vs[0], abs(vs[1]), name, conf)
         if name == "viscous_friction":
             c, sc = _p(e, "damping_nm_s_rad")
-            put("hinge_damping_nm_s_rad", (bearing_damping_nm_s_rad + c, sc))
-        elif name == "coulomb_friction":
-            put("hinge_friction_nm", _gain_times(e, "friction_torque_nm"))
-        elif name == "cable_compliance":
-            put("joint_stiffness_nm_rad", _phys(e, "joint_stiffness_nm_rad"))
-            put("cable.youngs_modulus_gpa", _phys(e, "effective_modulus_gpa"), design)
-        elif name == "backlash":
-            put("dead_band_rad", _gain_times(e, "gap_rad"))
-        elif name == "cable_slack":
-            put("dead_band_rad", _phys(e, "dead_band_rad"))
-        elif name == "added_mass":
-            put("added_inertia_kg_m2", _p(e, "added_inertia_kg_m2"))
-        elif name == "quadratic_drag":
-            put("drag_coefficient_nm_s2_rad2", _phys(e, "drag_coefficient_nm_s2_rad2"))
-        elif name == "effective_radius":
-            v, s = _p(e, "ratio_error")
-            put("spool_radius_ratio", (1.0 + v, s))
-        elif name == "offset":
-            put("sensor_offset_rad", _p(e, "offset_rad"))
-        elif name == "sensor_delay":
-            put("sensor_delay_s", _p(e, "delay_s"))
-        elif name == "capstan_creep":
-            put("creep_per_travel", _p(e, "creep_per_travel"))
-        elif name == "lost_steps":
-            put("slip_rad", _p(e, "slip_rad"))
+            joint["hinge_damping_nm_s_rad"] = Measured(bearing_damping_nm_s_rad + c, abs(sc), name, conf)
+        for quantity, get in MAPPING.get(name, ()):
+            v, sv = get(e)
+            (design if "." in quantity else joint)[quantity] = Measured(v, abs(sv), name, conf)
     return joint, design
 
 
