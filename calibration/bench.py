@@ -16,12 +16,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
 from swiftfin.calibration.joint import BENCH_BEARING_DAMPING_NM_S_RAD, BENCH_LINK_INERTIA_KG_M2, JointDesign
-from swiftfin.core.params import ParamError, Problem, decode_text, read_file_bytes
+from swiftfin.core.params import ParamError, Problem, parse_toml_bytes, read_file_bytes, suggest
 
 WHAT = ("bench file", "the bench file")
 #: key -> (default, lowest, highest, what it is)
@@ -47,18 +46,11 @@ class Bench:
 def load_bench(path: str | Path) -> Bench:
     """Read and check a bench file; every problem at once, naming the file and the key."""
     name = str(path)
-    text = decode_text(read_file_bytes(path, *WHAT), name, *WHAT)
-    try:
-        raw = tomllib.loads(text)
-    except (tomllib.TOMLDecodeError, ValueError, RecursionError) as exc:
-        raise ParamError(name, [Problem("(syntax)", str(exc)[:80], "the file is not valid TOML")], WHAT[1]) from None
+    raw = parse_toml_bytes(read_file_bytes(path, *WHAT), name, *WHAT)
     out, vals = [], {}
     for k, v in raw.items():
         if k not in KEYS:
-            import difflib
-            close = difflib.get_close_matches(k, list(KEYS), n=1, cutoff=0.6)
-            out.append(Problem(k, v, "unknown key (expected " + ", ".join(KEYS) + ")"
-                               + (f" (did you mean '{close[0]}'?)" if close else "")))
+            out.append(Problem(k, v, "unknown key (expected " + ", ".join(KEYS) + ")" + suggest(k, KEYS)))
             continue
         _, lo, hi, what = KEYS[k]
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or not lo <= v <= hi:

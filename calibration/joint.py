@@ -49,12 +49,12 @@ from pathlib import Path
 
 import numpy as np
 
-from swiftfin.layout.geometry import cable_routes, spool_dims
-from swiftfin.layout.servo import joint_stiffness_nm_rad
+from swiftfin.layout.geometry import spool_dims
+from swiftfin.layout.servo import (cable_route_length_m, cable_side_stiffness_n_m, drive_stiffness_nm_rad, in_series,
+                                   joint_stiffness_nm_rad)
 from swiftfin.calibration import effects as op
 from swiftfin.calibration.model import Context, Effect, Family, Param
 from swiftfin.calibration.io import Column, read_log
-from swiftfin.physics.capstan import cable_stiffness_n_m
 from swiftfin.physics.kinematics import joint_resolution_rad
 from swiftfin.core.errors import UserError
 from swiftfin.core.schema import Params
@@ -200,13 +200,10 @@ def joint_design(p: Params, joint: int | None = None) -> JointDesign:
     m = p.joints.tendon_moment_arm_mm / 1000.0
     full = math.radians(p.motor.full_step_deg)
     q = full / p.motor.microsteps
-    lengths = [rt.length_mm / 1000.0 for rt in cable_routes(p) if rt.joint == j]
-    L = float(np.mean(lengths))
-    k = cable_stiffness_n_m(p.cable.youngs_modulus_gpa * 1e9, p.cable.diameter_mm / 1000.0, L)
-    k_motor = joint_stiffness_nm_rad(p)
-    drive = 1.0 / (1.0 / (2.0 * k * m * m) + 1.0 / k_motor)
-    return JointDesign(j, r, m, r / m, full, q, joint_resolution_rad(full, p.motor.microsteps, m, r), L, k,
-                       drive, p.cable.pretension_n, p.cable.youngs_modulus_gpa, motor_stiffness_nm_rad=k_motor)
+    L = cable_route_length_m(p, j + 1)
+    return JointDesign(j, r, m, r / m, full, q, joint_resolution_rad(full, p.motor.microsteps, m, r), L,
+                       cable_side_stiffness_n_m(p, L), drive_stiffness_nm_rad(p, j + 1), p.cable.pretension_n,
+                       p.cable.youngs_modulus_gpa, motor_stiffness_nm_rad=joint_stiffness_nm_rad(p))
 
 
 def rigid_joint_angle(motor_angle_rad: np.ndarray, d: JointDesign) -> np.ndarray:
@@ -558,12 +555,10 @@ def _slack() -> Effect:
     """A pull-pull pair that has lost its pretension (issue 14 item 2): each cable pulls only once stretched past
     its slack, so inside a dead band of +- s the link floats on its own inertia and damping, and outside it one
     side pulls alone (half the pair's stiffness, in series with the stepper's)."""
-    def slack_stiffness(d):
-        return 1.0 / (2.0 / d.cable_stiffness_nm_rad + 1.0 / d.motor_stiffness_nm_rad)
-
     def cols(ctx, nl):
         d = _d(ctx)
-        return op.deadzone_drive(ctx.t, ctx.base, slack_stiffness(d), d.link_inertia_kg_m2,
+        one_side = in_series(d.cable_stiffness_nm_rad / 2.0, d.motor_stiffness_nm_rad)
+        return op.deadzone_drive(ctx.t, ctx.base, one_side, d.link_inertia_kg_m2,
                                  d.bearing_damping_nm_s_rad, nl["slack_rad"]) - ctx.base
 
     def phys(v, s, ctx):

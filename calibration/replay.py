@@ -126,25 +126,36 @@ def replay_markdown(summary: dict, plot: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
-def plot_replay(res: dict, path, window_s: float = 3.0) -> None:
+@dataclass
+class Replay:
+    """The replay before and after calibration: ``summary`` (the JSON's ``replay``: the drive each used, its RMSE
+    against the measurement [rad], what the replay could not carry) and the traces it was computed from."""
+    summary: dict
+    t_s: np.ndarray
+    measured_rad: np.ndarray
+    sim_before_rad: np.ndarray
+    sim_after_rad: np.ndarray
+
+
+def plot_replay(res: Replay, path, window_s: float = 3.0) -> None:
     """The first ``window_s`` of the replay: measured, as exported, calibrated; and the two errors."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    t, y = res["t_s"], res["measured_rad"]
+    t, y, s = res.t_s, res.measured_rad, res.summary
     rows = np.flatnonzero(t - t[0] <= window_s)
     fig, ax = plt.subplots(2, 1, figsize=(9, 6), sharex=True, layout="constrained")
     ax[0].plot(t[rows], y[rows], ".", ms=2, color="0.4", label="measured")
-    ax[0].plot(t[rows], res["sim_before_rad"][rows], lw=1, color="tab:red", label="MuJoCo, MJCF as exported")
-    ax[0].plot(t[rows], res["sim_after_rad"][rows], lw=1, color="tab:blue", label="MuJoCo, calibrated")
+    ax[0].plot(t[rows], res.sim_before_rad[rows], lw=1, color="tab:red", label="MuJoCo, MJCF as exported")
+    ax[0].plot(t[rows], res.sim_after_rad[rows], lw=1, color="tab:blue", label="MuJoCo, calibrated")
     ax[0].set_ylabel("joint angle [rad]")
     ax[0].legend(loc="upper right", fontsize=8)
-    ax[0].set_title(f"replay through joint_{res['joint']} of {res['mjcf']}", fontsize=9)
-    ax[1].plot(t[rows], (y - res["sim_before_rad"])[rows], lw=0.8, color="tab:red",
-               label=f"as exported (RMSE {res['before']['rmse_rad']:.3g} rad, whole log)")
-    ax[1].plot(t[rows], (y - res["sim_after_rad"])[rows], lw=0.8, color="tab:blue",
-               label=f"calibrated (RMSE {res['after']['rmse_rad']:.3g} rad, whole log)")
+    ax[0].set_title(f"replay through joint_{s['joint']} of {s['mjcf']}", fontsize=9)
+    ax[1].plot(t[rows], (y - res.sim_before_rad)[rows], lw=0.8, color="tab:red",
+               label=f"as exported (RMSE {s['before']['rmse_rad']:.3g} rad, whole log)")
+    ax[1].plot(t[rows], (y - res.sim_after_rad)[rows], lw=0.8, color="tab:blue",
+               label=f"calibrated (RMSE {s['after']['rmse_rad']:.3g} rad, whole log)")
     ax[1].set_xlabel("time [s]")
     ax[1].set_ylabel("measured - simulated [rad]")
     ax[1].legend(loc="upper right", fontsize=8)
@@ -152,27 +163,36 @@ def plot_replay(res: dict, path, window_s: float = 3.0) -> None:
     plt.close(fig)
 
 
-def replay_report(t, motor_angle_rad, measured_rad, d: JointDesign, mjcf: str, joint: int, params, joint_cal,
-                  link_inertia_kg_m2: float) -> dict:
-    """The replay before and after calibration: each one's simulated angle and its RMSE against the
-    measurement [rad], with the drive each used and what the replay could not carry."""
+def replay_report(ctx, mjcf: str, exported: ReplayJoint, params, joint_cal) -> Replay:
+    """Replay a joint log's context ``ctx`` (its command, measurement and the bench's design constants) through
+    ``exported`` (:func:`joint_from_mjcf` of ``mjcf``) and through the same joint calibrated with ``joint_cal``
+    (a core.calibration.JointCalibration) on the design ``params`` (the calibration's revised design)."""
+    from dataclasses import asdict
+
     from swiftfin.layout.servo import FRICTION_TIMECONST_S, joint_servo
 
-    before = joint_from_mjcf(mjcf, joint)
+    d: JointDesign = ctx.meta["design"]
+    joint = d.joint + 1
     servo = joint_servo(params, joint, joint_cal)
     after = ReplayJoint(servo.damping_nm_s_rad, servo.friction_nm, servo.armature_kg_m2, servo.kp_nm_rad,
                         servo.kv_nm_s_rad, FRICTION_TIMECONST_S)
-    get = (lambda q, default: (joint_cal.get(q) if joint_cal is not None else None) or default)
-    inertia_after = link_inertia_kg_m2 + get("added_inertia_kg_m2", 0.0)
-    sim_before = replay(t, motor_angle_rad, d, before, link_inertia_kg_m2)
-    sim_after = replay(t, motor_angle_rad, d, after, inertia_after, ratio_scale=get("spool_radius_ratio", 1.0),
+
+    def get(q: str, default: float) -> float:
+        return default if joint_cal is None else joint_cal.get(q, default)
+    inertia = d.link_inertia_kg_m2
+    inertia_after = inertia + get("added_inertia_kg_m2", 0.0)
+    motor = ctx.signals["input"]
+    sim_before = replay(ctx.t, motor, d, exported, inertia)
+    sim_after = replay(ctx.t, motor, d, after, inertia_after, ratio_scale=get("spool_radius_ratio", 1.0),
                        offset_rad=get("sensor_offset_rad", 0.0), delay_s=get("sensor_delay_s", 0.0))
-    y = np.asarray(measured_rad, float)
-    rmse = lambda s: float(np.sqrt(np.mean((s - y) ** 2)))      # noqa: E731
+    y = np.asarray(ctx.y, float)
+
+    def rmse(sim):
+        return float(np.sqrt(np.mean((sim - y) ** 2)))
     left = [q for q in ("dead_band_rad", "creep_per_travel", "slip_rad", "drag_coefficient_nm_s2_rad2")
             if joint_cal is not None and q in joint_cal.values]
-    return {"mjcf": str(mjcf), "joint": joint, "link_inertia_kg_m2": link_inertia_kg_m2,
-            "before": {"drive": before.__dict__, "rmse_rad": rmse(sim_before)},
-            "after": {"drive": after.__dict__, "link_inertia_kg_m2": inertia_after, "rmse_rad": rmse(sim_after)},
-            "not_replayed": left, "t_s": t, "measured_rad": y, "sim_before_rad": sim_before,
-            "sim_after_rad": sim_after}
+    summary = {"mjcf": str(mjcf), "joint": joint, "link_inertia_kg_m2": inertia,
+               "before": {"drive": asdict(exported), "rmse_rad": rmse(sim_before)},
+               "after": {"drive": asdict(after), "link_inertia_kg_m2": inertia_after, "rmse_rad": rmse(sim_after)},
+               "not_replayed": left}
+    return Replay(summary, np.asarray(ctx.t, float), y, sim_before, sim_after)

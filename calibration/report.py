@@ -270,8 +270,11 @@ def markdown(rep: dict, plots: dict[str, str]) -> str:
 
 
 def write_report(cal: Calibrator, out_dir: str | Path, *, data: str = "", holdout: str = "",
-                 notes: list[str] | None = None, plots: bool = True) -> dict:
-    """Write ``fit_report.json``, ``fit_report.md`` and the PNGs into ``out_dir``; return the JSON content."""
+                 notes: list[str] | None = None, plots: bool = True, extra: dict | None = None,
+                 extra_markdown: str = "") -> dict:
+    """Write ``fit_report.json``, ``fit_report.md`` and the PNGs into ``out_dir``; return the JSON content.
+    ``extra``: more top-level entries of the JSON (e.g. the joint's replay in MuJoCo, calibration.replay), and
+    ``extra_markdown`` their section of the markdown."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rep = cal.report_dict()
@@ -295,6 +298,8 @@ def write_report(cal: Calibrator, out_dir: str | Path, *, data: str = "", holdou
             files[eff.name] = name
     rep["plots"] = files
     rep = jsonable(rep)
+    if extra:
+        rep.update(jsonable(extra))
     (out / "fit_report.json").write_text(json.dumps(rep, indent=2, allow_nan=False))
-    (out / "fit_report.md").write_text(markdown(rep, files))
+    (out / "fit_report.md").write_text(markdown(rep, files) + ("\n" + extra_markdown if extra_markdown else ""))
     return rep

@@ -29,38 +29,50 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import tomllib
 from dataclasses import dataclass, field
+from typing import NamedTuple
 from pathlib import Path
 
-from swiftfin.core.params import (ParamError, Problem, _suggest, decode_text, get_key, params_from_dict,
-                                  read_file_bytes, to_dict)
+from swiftfin.core.params import (ParamError, Problem, get_key, params_from_dict, parse_toml_bytes,
+                                  read_file_bytes, suggest, to_dict)
 from swiftfin.core.schema import Params
 
 WHAT = ("calibration file", "the calibration file")
 FILE_NAME = "calibration.toml"
 """The name ``swiftfin fit joint`` writes it under, and the copy a calibrated build keeps."""
 
-#: name -> (unit, where it is used). Applied: into the simulator files and the rules' load model. Recorded: kept
+class Quantity(NamedTuple):
+    unit: str
+    lowest: float | None        # None: any sign
+    strict: bool                # lowest excluded
+    use: str                    # applied (simulator files, rules) or recorded only, and why
+
+
+#: What a joint's calibration may hold. Applied: into the simulator files and the rules' load model. Recorded: kept
 #: in the file for the record, used by neither (the reason given).
-JOINT_QUANTITIES: dict[str, tuple[str, str]] = {
-    "hinge_damping_nm_s_rad": ("N m s/rad", "applied: the joint's viscous damping (MJCF/URDF/SDF damping) and a "
-                                            "c w torque in the rules' load model"),
-    "hinge_friction_nm": ("N m", "applied: the joint's dry friction (MJCF frictionloss, URDF/SDF friction) and a "
-                                 "tau_c sign(w) torque in the rules' load model"),
-    "joint_stiffness_nm_rad": ("N m/rad", "applied: the cable pair's stiffness at the joint, in series with the "
-                                          "stepper's in the MJCF position servo (kp)"),
-    "dead_band_rad": ("rad", "recorded: slack in the drive; no simulator joint has a dead band (re-tension the "
-                             "cable instead)"),
-    "added_inertia_kg_m2": ("kg m^2", "recorded: inertia beyond the bench model's; the simulators take inertia "
-                                      "from the mass properties and added mass from their fluid model"),
-    "drag_coefficient_nm_s2_rad2": ("N m s^2/rad^2", "recorded: the simulators' fluid model gives the drag"),
-    "spool_radius_ratio": ("-", "recorded: effective / design spool-to-arm ratio (a cable riding high in the "
-                                "groove, a worn sector)"),
-    "sensor_offset_rad": ("rad", "recorded: a property of the bench's sensor, not of the robot"),
-    "sensor_delay_s": ("s", "recorded: a property of the bench's sensor, not of the robot"),
-    "creep_per_travel": ("rad/rad", "recorded: cable creep round the drum per joint radian travelled"),
-    "slip_rad": ("rad", "recorded: joint angle lost per missed-step event"),
+JOINT_QUANTITIES: dict[str, Quantity] = {
+    "hinge_damping_nm_s_rad": Quantity("N m s/rad", 0.0, False,
+                                       "applied: the joint's viscous damping (MJCF/URDF/SDF damping) and a c w "
+                                       "torque in the rules' load model"),
+    "hinge_friction_nm": Quantity("N m", 0.0, False, "applied: the joint's dry friction (MJCF frictionloss, URDF/SDF "
+                                                    "friction) and a tau_c sign(w) torque in the rules' load model"),
+    "joint_stiffness_nm_rad": Quantity("N m/rad", 0.0, True,
+                                       "applied: the whole drive's stiffness between command and joint (stepper and "
+                                       "cables in series), the MJCF position servo's kp"),
+    "dead_band_rad": Quantity("rad", 0.0, False, "recorded: slack in the drive; no simulator joint has a dead band "
+                                                 "(re-tension the cable instead)"),
+    "added_inertia_kg_m2": Quantity("kg m^2", 0.0, False,
+                                    "recorded: inertia beyond the bench model's; the simulators take inertia from the "
+                                    "mass properties and added mass from their fluid model"),
+    "drag_coefficient_nm_s2_rad2": Quantity("N m s^2/rad^2", 0.0, False,
+                                            "recorded: the simulators' fluid model gives the drag"),
+    "spool_radius_ratio": Quantity("-", 0.0, True, "recorded: effective / design spool-to-arm ratio (a cable riding "
+                                                   "high in the groove, a worn sector)"),
+    "sensor_offset_rad": Quantity("rad", None, False, "recorded: a property of the bench's sensor, not of the robot"),
+    "sensor_delay_s": Quantity("s", 0.0, False, "recorded: a property of the bench's sensor, not of the robot"),
+    "creep_per_travel": Quantity("rad/rad", None, False,
+                                 "recorded: cable creep round the drum per joint radian travelled"),
+    "slip_rad": Quantity("rad", None, False, "recorded: joint angle lost per missed-step event"),
 }
 APPLIED = ("hinge_damping_nm_s_rad", "hinge_friction_nm", "joint_stiffness_nm_rad")
 #: design keys a calibration may revise (the schema's range applies to the revised value)
@@ -83,9 +95,10 @@ class JointCalibration:
     joint: int                                   # 1-based
     values: dict[str, Measured] = field(default_factory=dict)
 
-    def get(self, name: str) -> float | None:
+    def get(self, name: str, default: float | None = None) -> float | None:
+        """The measured value of ``name``, or ``default`` when the file has none."""
         m = self.values.get(name)
-        return None if m is None else m.value
+        return default if m is None else m.value
 
 
 @dataclass(frozen=True)
@@ -94,10 +107,15 @@ class Calibration:
     joints: tuple[JointCalibration, ...] = ()
     design: dict[str, Measured] = field(default_factory=dict)
     path: str = "<memory>"
+    data: bytes = b""               # the file as read (a calibrated build keeps this copy)
 
     def joint(self, j: int) -> JointCalibration | None:
         """The calibration of joint ``j`` (1-based), or None."""
         return next((jc for jc in self.joints if jc.joint == j), None)
+
+    def per_joint(self, name: str, n: int, default: float = 0.0) -> list[float]:
+        """``name``'s measured value at joints 1..n, ``default`` where the file has none."""
+        return [default if (jc := self.joint(j)) is None else jc.get(name, default) for j in range(1, n + 1)]
 
     def revised_params(self, p: Params) -> Params:
         """``p`` with the design keys this calibration revises, validated as a parameter file is (a value
@@ -133,7 +151,7 @@ def _measured(where: str, raw, out: list[Problem]) -> Measured | None:
     bad = [k for k in raw if k not in ("value", "std", "effect", "confidence")]
     for k in bad:
         out.append(Problem(f"{where}.{k}", raw[k], "unknown key: a value has value, std, effect and confidence"
-                           + _suggest(k, ("value", "std", "effect", "confidence"))))
+                           + suggest(k, ("value", "std", "effect", "confidence"))))
     ok = not bad
     for k in ("value", "std"):
         v = raw.get(k)
@@ -154,7 +172,37 @@ def _measured(where: str, raw, out: list[Problem]) -> Measured | None:
     return Measured(float(raw["value"]), float(raw["std"]), eff, conf) if ok else None
 
 
-def calibration_from_dict(raw: dict, p: Params, source: str = "<dict>") -> Calibration:
+def _measured_table(where: str, raw, allowed, check, out: list[Problem],
+                    unknown: str = "unknown quantity") -> dict[str, Measured]:
+    """The ``{name: {value, std, effect, confidence}}`` table at ``where``, its names among ``allowed`` (else
+    ``unknown``); ``check(name, measured)`` gives what is wrong with a value, or None."""
+    if not isinstance(raw, dict):
+        out.append(Problem(where, raw, "expected a table of measured values"))
+        return {}
+    values = {}
+    for name, m in raw.items():
+        key = f"{where}.\"{name}\"" if "." in name else f"{where}.{name}"
+        if name not in allowed:
+            out.append(Problem(key, m, f"{unknown} (expected one of {', '.join(allowed)})"
+                               + suggest(name, allowed)))
+            continue
+        got = _measured(key, m, out)
+        problem = None if got is None else check(name, got)
+        if problem:
+            out.append(Problem(f"{key}.value", got.value, problem))
+        elif got is not None:
+            values[name] = got
+    return values
+
+
+def _joint_value_problem(name: str, m: Measured) -> str | None:
+    q = JOINT_QUANTITIES[name]
+    if q.lowest is None or m.value > q.lowest or (m.value == q.lowest and not q.strict):
+        return None
+    return f"expected {'>' if q.strict else '>='} {q.lowest:g} {q.unit}"
+
+
+def calibration_from_dict(raw: dict, p: Params, source: str = "<dict>", data: bytes = b"") -> Calibration:
     """Validate a parsed calibration file against the design ``p`` (joints 1..count, design keys in range)."""
     out: list[Problem] = []
     src, joints, design = {}, [], {}
@@ -166,7 +214,7 @@ def calibration_from_dict(raw: dict, p: Params, source: str = "<dict>") -> Calib
             for k, v in val.items():
                 if k not in SOURCE_KEYS:
                     out.append(Problem(f"source.{k}", v, f"unknown key (expected {', '.join(SOURCE_KEYS)})"
-                                       + _suggest(k, SOURCE_KEYS)))
+                                       + suggest(k, SOURCE_KEYS)))
                 elif not isinstance(v, str):
                     out.append(Problem(f"source.{k}", v, "expected text"))
                 else:
@@ -177,44 +225,17 @@ def calibration_from_dict(raw: dict, p: Params, source: str = "<dict>") -> Calib
                 out.append(Problem(top, "(table)", f"expected joint_1 .. joint_{p.joints.count} (the design's "
                                                    f"joints, 1-based)"))
                 continue
-            if not isinstance(val, dict):
-                out.append(Problem(top, val, "expected a table of measured values"))
-                continue
-            values = {}
-            for name, m in val.items():
-                if name not in JOINT_QUANTITIES:
-                    out.append(Problem(f"{top}.{name}", m, "unknown quantity" + _suggest(name, JOINT_QUANTITIES)))
-                    continue
-                got = _measured(f"{top}.{name}", m, out)
-                if got is None:
-                    continue
-                if name in ("hinge_damping_nm_s_rad", "hinge_friction_nm", "dead_band_rad", "added_inertia_kg_m2",
-                            "drag_coefficient_nm_s2_rad2", "sensor_delay_s") and got.value < 0:
-                    out.append(Problem(f"{top}.{name}.value", got.value, "expected >= 0"))
-                elif name in ("joint_stiffness_nm_rad", "spool_radius_ratio") and got.value <= 0:
-                    out.append(Problem(f"{top}.{name}.value", got.value, "expected > 0"))
-                else:
-                    values[name] = got
-            joints.append(JointCalibration(int(tail), values))
-        elif top == "design":
-            if not isinstance(val, dict):
-                out.append(Problem("design", val, "expected a table of design keys"))
-                continue
-            for key, m in val.items():
-                if key not in DESIGN_KEYS:
-                    out.append(Problem(f"design.\"{key}\"", m, f"not a key a calibration revises (expected "
-                                                               f"{', '.join(DESIGN_KEYS)})"
-                                       + _suggest(key, DESIGN_KEYS)))
-                    continue
-                got = _measured(f"design.\"{key}\"", m, out)
-                if got is not None:
-                    design[key] = got
+            joints.append(JointCalibration(int(tail), _measured_table(top, val, tuple(JOINT_QUANTITIES),
+                                                                      _joint_value_problem, out)))
+        elif top == "design":       # a revised key's range is the schema's: checked on the revised design below
+            design = _measured_table("design", val, DESIGN_KEYS, lambda name, m: None, out,
+                                     "not a key a calibration revises")
         else:
             out.append(Problem(top, "(table)", "unknown table (expected source, joint_N, design)"
-                               + _suggest(top, ("source", "design", "joint_1"))))
+                               + suggest(top, ("source", "design", "joint_1"))))
     if out:
         raise ParamError(source, out, WHAT[1])
-    cal = Calibration(src, tuple(sorted(joints, key=lambda jc: jc.joint)), design, source)
+    cal = Calibration(src, tuple(sorted(joints, key=lambda jc: jc.joint)), design, source, data)
     cal.revised_params(p)          # a revised key out of its range: refused now, naming this file
     return cal
 
@@ -222,20 +243,13 @@ def calibration_from_dict(raw: dict, p: Params, source: str = "<dict>") -> Calib
 def load_calibration(path: str | Path, p: Params) -> Calibration:
     """Read and validate a calibration file for the design ``p``."""
     name = str(path)
-    text = decode_text(read_file_bytes(path, *WHAT), name, *WHAT)
-    try:
-        raw = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ParamError(name, [Problem("(syntax)", str(exc), "the file is not valid TOML")], WHAT[1]) from None
-    except (ValueError, RecursionError) as exc:
-        raise ParamError(name, [Problem("(syntax)", type(exc).__name__, "the file is not valid TOML")],
-                         WHAT[1]) from None
-    return calibration_from_dict(raw, p, name)
+    data = read_file_bytes(path, *WHAT)
+    return calibration_from_dict(parse_toml_bytes(data, name, *WHAT), p, name, data)
 
 
 def _value_toml(m: Measured) -> str:
-    return (f"{{ value = {m.value!r}, std = {m.std!r}, effect = \"{m.effect}\", "
-            f"confidence = \"{m.confidence}\" }}")
+    return (f"{{ value = {m.value!r}, std = {m.std!r}, effect = {json.dumps(m.effect)}, "
+            f"confidence = {json.dumps(m.confidence)} }}")
 
 
 def calibration_toml(cal: Calibration) -> str:
@@ -247,8 +261,8 @@ def calibration_toml(cal: Calibration) -> str:
     for jc in cal.joints:
         lines += ["", f"[joint_{jc.joint}]"]
         for name, m in jc.values.items():
-            unit, use = JOINT_QUANTITIES[name]
-            lines += [f"# [{unit}] {use}", f"{name} = {_value_toml(m)}"]
+            q = JOINT_QUANTITIES[name]
+            lines += [f"# [{q.unit}] {q.use}", f"{name} = {_value_toml(m)}"]
     if cal.design:
         lines += ["", "[design]   # design keys the measurement revises"]
         lines += [f"\"{k}\" = {_value_toml(m)}" for k, m in cal.design.items()]

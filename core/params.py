@@ -67,7 +67,8 @@ _MISSING = object()
 GROOVE_WEB_MM = 0.2   # least material between neighbouring turns of the spool's groove (else the turns merge)
 
 
-def _suggest(name: str, options: Iterable[str]) -> str:
+def suggest(name: str, options: Iterable[str]) -> str:
+    """`` (did you mean 'x'?)`` for the closest of ``options`` to a misspelt ``name``, or ``""``."""
     close = difflib.get_close_matches(name, list(options), n=1, cutoff=0.6)
     return f" (did you mean '{close[0]}'?)" if close else ""
 
@@ -125,7 +126,7 @@ def _check_value(key: str, value: Any, default: Any, meta: dict, out: list[Probl
         choices = meta.get("choices")
         if choices and value not in choices:
             out.append(Problem(key, value, f"expected one of {', '.join(repr(c) for c in choices)}"
-                                           f"{_suggest(value, choices)}"))
+                                           f"{suggest(value, choices)}"))
             return None
         return value
     if isinstance(default, tuple):
@@ -159,7 +160,7 @@ def _build_section(cls, raw: Any, prefix: str, out: list[Problem], failed: set[s
     values = {}
     for k, v in raw.items():
         if k not in names:
-            out.append(Problem(f"{prefix}.{k}", v, f"unknown key{_suggest(k, names)}"))
+            out.append(Problem(f"{prefix}.{k}", v, f"unknown key{suggest(k, names)}"))
             close = difflib.get_close_matches(k, list(names), n=1, cutoff=0.6)
             if close and close[0] not in raw:
                 failed.add(f"{prefix}.{close[0]}")     # its default stands in for what was probably meant
@@ -375,10 +376,10 @@ def _too_deep(raw: Any) -> list[Problem]:
 
 def _top_level_problem(name: str, value: Any, allowed: list[str]) -> Problem:
     if isinstance(value, dict):
-        return Problem(name, "{...}", f"unknown section{_suggest(name, allowed)}")
+        return Problem(name, "{...}", f"unknown section{suggest(name, allowed)}")
     owners = [s for s, cls in SECTIONS.items() if any(f.name == name for f in fields(cls))]
     hint = (f" (did you mean '{name}' in [{owners[0]}]?)" if owners else
-            _suggest(name, allowed) or "")
+            suggest(name, allowed) or "")
     return Problem(name, value, f"unknown top-level key{hint}: every key belongs in a section: "
                                 f"{', '.join(f'[{s}]' for s in SECTIONS)} or [[components]]")
 
@@ -557,20 +558,22 @@ def decode_text(data: bytes, source: str, what: str = "parameter file", kind: st
     return text.removeprefix("\ufeff")
 
 
-def parse_toml_bytes(data: bytes, source: str) -> dict:
-    """Parse a parameter file's bytes (UTF-8, a leading BOM allowed); any failure is a ParamError naming it."""
-    text = decode_text(data, source)
+def parse_toml_bytes(data: bytes, source: str, what: str = "parameter file", kind: str | None = None) -> dict:
+    """Parse a TOML file's bytes (UTF-8, a leading BOM allowed); any failure is a ParamError naming it. ``what``
+    names the file in the messages, ``kind`` in their heading (as :func:`read_file_bytes`)."""
+    kind = kind or f"the {what}"
+    text = decode_text(data, source, what, kind)
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ParamError(source, [Problem("(syntax)", str(exc), "the file is not valid TOML")]) from None
+        raise ParamError(source, [Problem("(syntax)", str(exc), "the file is not valid TOML")], kind) from None
     except ValueError as exc:           # tomllib's int(): a number past Python's digit limit
         raise ParamError(source, [Problem("(syntax)", str(exc)[:60] + " ...",
-                                          "the file is not valid TOML: a number too long to read")]) from None
+                                          "the file is not valid TOML: a number too long to read")], kind) from None
     except RecursionError:
         raise ParamError(source, [Problem("(syntax)", "[[[...]]]",
-                                          "the file is nested too deeply to parse (a parameter file nests at "
-                                          "most 4 tables or lists)")]) from None
+                                          f"the file is nested too deeply to parse (a {what} nests at "
+                                          f"most 4 tables or lists)")], kind) from None
 
 
 def to_dict(p: Params) -> dict:

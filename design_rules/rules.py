@@ -98,9 +98,8 @@ class RuleContext:
         cal = self.calibration
         if cal is not None and cal.joints:
             n = self.p.joints.count
-            c = [(cal.joint(j) and cal.joint(j).get("hinge_damping_nm_s_rad")) or 0.0 for j in range(1, n + 1)]
-            tc = [(cal.joint(j) and cal.joint(j).get("hinge_friction_nm")) or 0.0 for j in range(1, n + 1)]
-            loads = with_hinge_losses(loads, c, tc)
+            loads = with_hinge_losses(loads, cal.per_joint("hinge_damping_nm_s_rad", n),
+                                      cal.per_joint("hinge_friction_nm", n))
         return loads
 
     @cached_property

@@ -38,7 +38,6 @@ from swiftfin.layout.servo import FRICTION_TIMECONST_S
 from swiftfin.exports.urdf import fmt, num
 
 TIMESTEP_S = 5e-4
-assert FRICTION_TIMECONST_S >= 2 * TIMESTEP_S      # MuJoCo: a constraint's time constant >= two time steps
 BUOY_MASS_FRACTION = 0.05     # share of a link's mass moved to its buoyancy body (halved until the rest is valid)
 BUOY_RADIUS_M = 0.004         # the buoyancy body's inertia: a solid sphere of this radius
 BUOY_GEOM_RADIUS_M = 1e-4     # its only geom: a massless fluid-inert speck (see mjcf_tree)

@@ -28,9 +28,7 @@ from swiftfin.exports.hydro import link_hydrodynamics
 from swiftfin.exports.massprops import Inertial, MassReport, combine, link_origin_mm
 from swiftfin.core.calibration import Calibration
 from swiftfin.core.schema import Params
-from swiftfin.layout.servo import (SERVO_DERIVATIVE_TIME_S, UNCALIBRATED_DAMPING_NM_S_RAD, Servo,  # noqa: F401
-                                   cable_pair_stiffness_nm_rad, joint_servo, joint_stiffness_nm_rad,
-                                   joint_torque_limit_nm, reflected_armature_kg_m2)
+from swiftfin.layout.servo import joint_servo, joint_torque_limit_nm
 
 JOINT_AXIS = (0.0, 0.0, -1.0)
 
@@ -228,7 +226,6 @@ def robot_from_design(p: Params, parts, report: MassReport, name: str = "swiftfi
         links.append(Link(lk.name, lk.inertial, (visual,), collisions, tuple(fluid), float(V), cob_link, water, hd))
     joints, tendons, actuators = [], [], []
     tau = joint_torque_limit_nm(p)
-    arm = reflected_armature_kg_m2(p)
     # max joint speed: the wave's peak relative angle times omega (x2 margin)
     w_max = 2.0 * 2 * math.pi * p.swimming.tail_beat_frequency_hz * max(stops)
     for j in range(1, n + 1):

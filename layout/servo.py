@@ -40,12 +40,32 @@ def joint_stiffness_nm_rad(p: Params) -> float:
     return p.motor.holding_torque_nm * math.pi / (2 * fs) * ratio**2
 
 
+def in_series(*stiffnesses: float) -> float:
+    """Springs in series: 1 / sum(1 / k) (an infinite one adds nothing)."""
+    return 1.0 / sum(1.0 / k for k in stiffnesses)
+
+
+def cable_route_length_m(p: Params, j: int) -> float:
+    """Mean free length of joint ``j``'s (1-based) two cables [m]."""
+    return float(np.mean([rt.length_mm for rt in cable_routes(p) if rt.joint == j - 1])) / 1000.0
+
+
+def cable_side_stiffness_n_m(p: Params, length_m: float) -> float:
+    """E A / L of one cable of the design over ``length_m`` [N/m]."""
+    return cable_stiffness_n_m(p.cable.youngs_modulus_gpa * 1e9, p.cable.diameter_mm / 1000.0, length_m)
+
+
 def cable_pair_stiffness_nm_rad(p: Params, j: int) -> float:
     """The design's pull-pull pair at joint ``j`` (1-based), seen at the joint: K = 2 (E A / L) d_mount^2 with L
-    the mean route length of the joint's two cables [N m/rad] (the stiffness the joint fit's base model uses)."""
-    lengths = [rt.length_mm / 1000.0 for rt in cable_routes(p) if rt.joint == j - 1]
-    k = cable_stiffness_n_m(p.cable.youngs_modulus_gpa * 1e9, p.cable.diameter_mm / 1000.0, float(np.mean(lengths)))
+    the mean route length of the joint's two cables [N m/rad]."""
+    k = cable_side_stiffness_n_m(p, cable_route_length_m(p, j))
     return 2.0 * k * (p.joints.tendon_moment_arm_mm / 1000.0) ** 2
+
+
+def drive_stiffness_nm_rad(p: Params, j: int) -> float:
+    """The whole drive's stiffness at joint ``j`` (1-based): the cable pair in series with the stepper held at
+    its step [N m/rad] (the stiffness the joint fit's base model uses, calibration/joint.py)."""
+    return in_series(cable_pair_stiffness_nm_rad(p, j), joint_stiffness_nm_rad(p))
 
 
 @dataclass(frozen=True)
@@ -65,8 +85,7 @@ def joint_servo(p: Params, j: int, measured=None) -> Servo:
     it with (calibration/joint.py): the commanded angle drives the hinge through one stiffness, the measured one
     (the whole drive's, stepper and cables in series, as the fit sees it between command and joint; else the
     design's cable pair in series with the stepper, which the fit's base model assumed and the log did not
-    contradict), the measured hinge
-    damping as the only damping (kv = 0: the fit's damping is all the damping the bench saw), the measured dry
+    contradict), the measured hinge damping as the only damping (kv = 0: the fit's damping is all the damping the bench saw), the measured dry
     friction, and no armature: the rotor sits behind the cable, not on the hinge.
 
     Measured on replays of simulated bench logs (calibration.replay): the rotor's reflected inertia on the hinge of a
@@ -76,9 +95,10 @@ def joint_servo(p: Params, j: int, measured=None) -> Servo:
     kp = joint_stiffness_nm_rad(p)
     if measured is None:
         return Servo(UNCALIBRATED_DAMPING_NM_S_RAD, 0.0, kp, kp * SERVO_DERIVATIVE_TIME_S, reflected_armature_kg_m2(p))
-    drive = measured.get("joint_stiffness_nm_rad") or 1.0 / (1.0 / cable_pair_stiffness_nm_rad(p, j) + 1.0 / kp)
-    return Servo(measured.get("hinge_damping_nm_s_rad") or UNCALIBRATED_DAMPING_NM_S_RAD,
-                 measured.get("hinge_friction_nm") or 0.0, drive, 0.0, 0.0)
+    drive = measured.get("joint_stiffness_nm_rad")
+    return Servo(measured.get("hinge_damping_nm_s_rad", UNCALIBRATED_DAMPING_NM_S_RAD),
+                 measured.get("hinge_friction_nm", 0.0),
+                 drive if drive is not None else drive_stiffness_nm_rad(p, j), 0.0, 0.0)
 
 
 def joint_torque_limit_nm(p: Params) -> float:

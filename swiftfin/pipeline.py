@@ -409,7 +409,7 @@ def write_calibration(result: BuildResult, folder: Path) -> str | None:
     cal = result.calibration
     if cal is None:
         return None
-    (folder / CALIBRATION_NAME).write_bytes(Path(cal.path).read_bytes())
+    (folder / CALIBRATION_NAME).write_bytes(cal.data)
     return CALIBRATION_NAME
 
 

@@ -210,3 +210,24 @@ def test_bench_and_mjcf_are_for_the_joint_family_and_a_bad_mjcf_is_named(tmp_pat
     assert main(["fit", "joint", str(tmp_path / "log.csv"), "--out", str(tmp_path / "g"), "--mjcf",
                  str(tmp_path)]) == 2
     assert "file not found" in capsys.readouterr().err
+
+
+def test_a_measured_friction_is_as_stiff_as_mujoco_allows_at_the_exported_time_step():
+    """MuJoCo wants a constraint's time constant at least twice the time step; the calibrated friction's is
+    exactly that at the MJCF's step (stiffer would be ignored, softer lets the link creep through its stuck band)."""
+    from swiftfin.exports.mjcf import TIMESTEP_S
+    from swiftfin.layout.servo import FRICTION_TIMECONST_S
+    assert FRICTION_TIMECONST_S == pytest.approx(2 * TIMESTEP_S)
+
+
+def test_a_calibrated_drive_takes_a_measured_zero_as_zero(p):
+    """A hinge measured with no friction keeps 0, and one whose damping was measured keeps it: a value in the file
+    is never replaced by the placeholder."""
+    from swiftfin.layout.servo import UNCALIBRATED_DAMPING_NM_S_RAD, drive_stiffness_nm_rad, joint_servo
+    jc = JointCalibration(4, {"hinge_damping_nm_s_rad": Measured(0.0, 0.0, "viscous_friction"),
+                              "hinge_friction_nm": Measured(0.0, 0.0, "coulomb_friction")})
+    s = joint_servo(p, 4, jc)
+    assert s.damping_nm_s_rad == 0.0 and s.friction_nm == 0.0
+    assert s.kp_nm_rad == pytest.approx(drive_stiffness_nm_rad(p, 4)) and s.kv_nm_s_rad == 0.0
+    empty = joint_servo(p, 4, JointCalibration(4, {}))
+    assert empty.damping_nm_s_rad == UNCALIBRATED_DAMPING_NM_S_RAD

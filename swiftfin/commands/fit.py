@@ -67,13 +67,13 @@ def configure(ap) -> None:
     ap.set_defaults(func=run)
 
 
-def _load(fam, path: str, design, args, notes: list) -> object:
+def _load(fam, path: str, design, args, notes: list, bench=None) -> object:
     kw = {}
     params = inspect.signature(fam.load).parameters
     if "joint" in params and args.joint is not None:
         kw["joint"] = args.joint - 1
-    if "bench" in params and args.bench_:
-        kw["bench"] = args.bench_
+    if "bench" in params and bench is not None:
+        kw["bench"] = bench
     if "notes" in params:
         kw["notes"] = notes
     return fam.load(path, design, **kw)
@@ -143,10 +143,10 @@ def run(args) -> int:
     for opt in ("joint", "bench", "mjcf"):
         if getattr(args, opt) is not None and args.family != "joint":
             raise UserError(f"--{opt} applies to the joint family only, not {args.family!r}")
-    args.bench_ = None
+    bench = None
     if args.bench:
         from swiftfin.calibration.bench import load_bench
-        args.bench_ = load_bench(args.bench)
+        bench = load_bench(args.bench)
     if args.mjcf is not None and not Path(args.mjcf).is_file():
         raise UserError(f"--mjcf {args.mjcf}: file not found (give a build's robot/swiftfin.xml)")
     if args.max_effects < 0:
@@ -158,9 +158,10 @@ def run(args) -> int:
     train_files, hold_files, fraction = _data_sets(fam, args)
     check_output_dir(args.out)            # before the fit: a path that cannot be written fails now, not after
     design = load_design(args.design)
+    exported = None
     if args.mjcf is not None:             # before the fit: an MJCF MuJoCo cannot load, or without the joint, fails now
         from swiftfin.calibration.replay import joint_from_mjcf
-        joint_from_mjcf(args.mjcf, args.joint if args.joint is not None else design.joints.count)
+        exported = joint_from_mjcf(args.mjcf, args.joint if args.joint is not None else design.joints.count)
     notes: list[str] = []
     if fam.load_many is not None and (len(train_files) > 1 or len(hold_files) > 1):
         kw = {"notes": notes} if "notes" in inspect.signature(fam.load_many).parameters else {}
@@ -168,20 +169,32 @@ def run(args) -> int:
         train = concat_contexts(ctxs[:len(train_files)])
         holdout = concat_contexts(ctxs[len(train_files):]) if hold_files else None
     else:
-        train = _load(fam, str(train_files[0]), design, args, notes)
-        holdout = _load(fam, str(hold_files[0]), design, args, notes) if hold_files else None
+        train = _load(fam, str(train_files[0]), design, args, notes, bench)
+        holdout = _load(fam, str(hold_files[0]), design, args, notes, bench) if hold_files else None
     for n in notes:
         print(f"swiftfin fit: warning: {n}", file=sys.stderr)
     cal = Calibrator(fam, holdout_fraction=fraction or 0.3, max_effects=args.max_effects, alpha=args.alpha,
                      min_relative_drop=args.min_drop)
     cal.fit(train, holdout)
     data = " ".join(str(p) for p in train_files)
+    calibration = replayed = None
+    extra, extra_md = {}, ""
+    if args.family == "joint":
+        calibration = _calibration(args, cal.report_dict(), design, train_files[0], train)
+        if exported is not None:
+            from swiftfin.calibration.replay import replay_markdown, replay_report
+            replayed = replay_report(train, args.mjcf, exported, calibration.revised_params(design),
+                                     calibration.joint(_joint(args, design)))
+            extra, extra_md = {"replay": replayed.summary}, replay_markdown(replayed.summary, not args.no_plots)
     try:
-        rep = write_report(cal, args.out, data=data, notes=notes, plots=not args.no_plots)
+        rep = write_report(cal, args.out, data=data, notes=notes, plots=not args.no_plots, extra=extra,
+                           extra_markdown=extra_md)
+        cal_file = _write_calibration(args.out, calibration) if calibration is not None else None
+        if replayed is not None and not args.no_plots:
+            from swiftfin.calibration.replay import plot_replay
+            plot_replay(replayed, Path(args.out) / "replay.png")
     except OSError as exc:
         raise UserError(f"--out {args.out}: cannot write the report ({exc.strerror or exc})") from None
-    cal_file = _write_calibration(args, rep, design, train_files[0]) if args.family == "joint" else None
-    replayed = _replay(args, train, design, cal_file, not args.no_plots) if args.mjcf else None
     base, fin, unit = rep["baseline"], rep["final"], rep["units"]["target"]
     nf = rep.get("noise_floor")
     floor = f"; noise floor {nf:.4g} {unit}" if nf is not None and nf == nf and nf > 0 else ""
@@ -203,57 +216,31 @@ def run(args) -> int:
     if cal_file is not None:
         print(f"calibration: {cal_file} (use it with swiftfin build/check --calibration)")
     if replayed is not None:
-        print(f"replay in MuJoCo through joint_{replayed['joint']} of {replayed['mjcf']} on the bench's link: RMSE "
-              f"{replayed['before']['rmse_rad']:.4g} rad as exported -> {replayed['after']['rmse_rad']:.4g} rad "
-              f"calibrated")
+        r = replayed.summary
+        print(f"replay in MuJoCo through joint_{r['joint']} of {r['mjcf']} on the bench's link: RMSE "
+              f"{r['before']['rmse_rad']:.4g} rad as exported -> {r['after']['rmse_rad']:.4g} rad calibrated")
     return 0
 
 
-def _replay(args, ctx, design, cal_file: Path, plots: bool) -> dict:
-    """Replay the log's command through ``--mjcf``'s joint, as exported and as calibrated (calibration.replay);
-    the numbers go into ``fit_report.json`` and ``fit_report.md``, the traces into ``replay.png``."""
-    import json
-
-    from swiftfin.calibration.joint import BENCH_LINK_INERTIA_KG_M2
-    from swiftfin.calibration.replay import plot_replay, replay_markdown, replay_report
-    from swiftfin.core.calibration import load_calibration
-    from swiftfin.core.jsonable import jsonable
-
-    joint = args.joint if args.joint is not None else design.joints.count
-    cal = load_calibration(cal_file, design)
-    params = cal.revised_params(design)
-    inertia = args.bench_.link_inertia_kg_m2 if args.bench_ else BENCH_LINK_INERTIA_KG_M2
-    res = replay_report(ctx.t, ctx.signals["input"], ctx.y, ctx.meta["design"], args.mjcf, joint, params,
-                        cal.joint(joint), inertia)
-    out = Path(args.out)
-    if plots:
-        plot_replay(res, out / "replay.png")
-    summary = {k: v for k, v in res.items() if not k.endswith("_rad") and k != "t_s"}
-    rep_file = out / "fit_report.json"
-    rep = json.loads(rep_file.read_text())
-    rep["replay"] = jsonable(summary)
-    rep_file.write_text(json.dumps(rep, indent=2, allow_nan=False))
-    with open(out / "fit_report.md", "a", encoding="utf-8") as fh:
-        fh.write("\n" + replay_markdown(summary, plots))
-    return summary
+def _joint(args, design) -> int:
+    """The log's joint, 1-based (--joint, else the design's last)."""
+    return args.joint if args.joint is not None else design.joints.count
 
 
-def _write_calibration(args, rep: dict, design, log: Path) -> Path:
-    """``DIR/calibration.toml``: the physical values the joint fit found (calibration.closing), which
-    ``swiftfin build --calibration`` and ``swiftfin check --calibration`` read back."""
+def _calibration(args, report: dict, design, log: Path, ctx):
+    """The physical values the joint fit found (calibration.closing), with the bench's bearing damping the fit's
+    base model assumed (``ctx``'s design constants, a bench file's if one was given)."""
     from swiftfin.calibration.closing import calibration_from_report
-    from swiftfin.core.calibration import FILE_NAME as CALIBRATION_NAME, calibration_toml
     from swiftfin.layout.design import default_design_path
 
-    joint = args.joint if args.joint is not None else design.joints.count
-    out = Path(args.out) / CALIBRATION_NAME
-    from swiftfin.calibration.bench import Bench
-    cal = calibration_from_report(rep, joint, log, args.design or default_design_path(),
-                                  Path(args.out) / "fit_report.json",
-                                  (args.bench_ or Bench()).bearing_damping_nm_s_rad)
-    try:
-        out.write_text(calibration_toml(cal), encoding="utf-8")
-    except OSError as exc:
-        raise UserError(f"--out {args.out}: cannot write {CALIBRATION_NAME} ({exc.strerror or exc})") from None
-    return out
+    return calibration_from_report(report, _joint(args, design), log, args.design or default_design_path(),
+                                   Path(args.out) / "fit_report.json", ctx.meta["design"].bearing_damping_nm_s_rad)
 
+
+def _write_calibration(out: str, calibration) -> Path:
+    """``OUT/calibration.toml``, which ``swiftfin build --calibration`` and ``swiftfin check --calibration`` read."""
+    from swiftfin.core.calibration import FILE_NAME, calibration_toml
+
+    path = Path(out) / FILE_NAME
+    path.write_text(calibration_toml(calibration), encoding="utf-8")
+    return path
