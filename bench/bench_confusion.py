@@ -4,7 +4,7 @@ pairs, controls and effects outside the engine's library (issue 14, item 3). Pri
 named first and how sure it said it was, whether it flagged unexplained structure, and how visible the truth was
 (rms of its effect on the reading over the sensor noise); then the issue's measures.
 
-    .venv/bin/python bench/bench_confusion.py [--seeds 0 1 2] [--sizes 0.2 1 5] [--duration 40]
+    .venv/bin/python bench/bench_confusion.py [--seeds 0 1 2] [--sizes 0.2 1 5] [--duration 40] [--only EFFECT ...]
 """
 from __future__ import annotations
 
@@ -26,6 +26,8 @@ def main(argv=None) -> int:
     ap.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     ap.add_argument("--sizes", type=float, nargs="+", default=[0.2, 1.0, 5.0])
     ap.add_argument("--duration", type=float, default=40.0)
+    ap.add_argument("--only", nargs="+", default=None, metavar="EFFECT",
+                    help="run only the cases with one of these effects (the matrix then covers those alone)")
     args = ap.parse_args(argv)
     from swiftfin.layout.design import load_design
     design = str(ROOT / "swiftfin.toml")
@@ -33,7 +35,9 @@ def main(argv=None) -> int:
     results, times = [], []
     print(f"{'case':<40} {'visible':>8} {'slips':>5}  {'named (first, confidence)':<44} flagged")
     with tempfile.TemporaryDirectory() as tmp:
-        for i, case in enumerate(cases(tuple(args.seeds), tuple(args.sizes))):
+        todo = [c for c in cases(tuple(args.seeds), tuple(args.sizes))
+                if args.only is None or set(c.truth) & set(args.only)]
+        for i, case in enumerate(todo):
             folder = Path(tmp) / f"c{i}"
             folder.mkdir()
             t0 = time.perf_counter()

@@ -377,7 +377,7 @@ def _effective_radius() -> Effect:
                       "size: the transmission ratio differs from r_spool / d_mount.",
               fingerprint="a residual proportional to the joint angle (a scale error): a straight line in residual "
                           "vs position through the origin",
-              linear=(Param("ratio_error", "-", -0.2, 0.25, "relative error of r_spool / d_mount"),),
+              linear=(Param("ratio_error", "-", -0.5, 1.0, "relative error of r_spool / d_mount"),),
               fingerprint_axis="position", columns_fn=lambda ctx, nl: ctx.base, physical_fn=phys)
 
 

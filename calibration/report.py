@@ -128,7 +128,7 @@ def plot_fingerprint(cal: Calibrator, j: int, path: Path, max_points: int = 2000
         ax.plot(mid, np.bincount(b, cs, minlength=edges.size - 1) / cnt, "s--", ms=3, color="tab:orange", lw=1,
                 label=f"fitted {eff.name} (binned)")
     units = cal.report_units()
-    ax.set_xlabel(f"{axis} [{units.get(axis, units.get('time', 's') if axis == 'time' else '')}]")
+    ax.set_xlabel(f"{axis} [{units.get(axis, units.get('time', 's') if axis == 'time' else '-')}]")
     ax.set_ylabel(f"residual [{cal.target_unit_}]")
     ax.set_title(f"{eff.name}: {eff.fingerprint}", fontsize=8, wrap=True)
     ax.legend(fontsize=7, loc="best")
@@ -159,7 +159,7 @@ def plot_spectrum(cal: Calibrator, path: Path) -> None:
     ax[1].axhline(2.58 / math.sqrt(max(n, 1)), color="0.5", ls=":", lw=0.8)
     ax[1].axhline(-2.58 / math.sqrt(max(n, 1)), color="0.5", ls=":", lw=0.8, label="99 % white-noise band")
     ax[1].set_xlabel("lag [s]")
-    ax[1].set_ylabel("autocorrelation")
+    ax[1].set_ylabel("autocorrelation [-]")
     ax[1].legend(fontsize=8)
     fig.savefig(path, dpi=110)
     plt.close(fig)
