@@ -9,7 +9,12 @@ r_spool phi of cable and the tendon sector of radius d_mount (the tendon moment 
 
     theta_rigid = (r_spool / d_mount) q round(phi / q).
 
-No coefficient is fitted: the radii come from the design file.
+The staircase drives the link through the design's drive: the stepper's stiffness in series with the cable pair,
+the link's inertia and its bearing's damping (``J theta'' + c theta' + K theta = K theta_rigid``), so the base
+model rings after each microstep as the link does. No coefficient is fitted: the radii, stiffness and link come
+from the design file (and the bench file). Where within a sample the logged command acts is identified
+(:func:`column_lag_s`, half a sample either side of the declared read-then-command convention) and reported as a
+base term.
 
 Physics of the departures (what the effects model). The stepper is position-commanded and the cable is stiff,
 so joint-side loads (friction, drag, inertia) reach the joint angle only through the cable's compliance:
@@ -212,9 +217,10 @@ def rigid_joint_angle(motor_angle_rad: np.ndarray, d: JointDesign) -> np.ndarray
 
 
 def joint_context(t: np.ndarray, motor: np.ndarray, joint: np.ndarray, d: JointDesign, source: str = "<memory>",
-                  tension: np.ndarray | None = None) -> Context:
+                  tension: np.ndarray | None = None, align: bool = True) -> Context:
     """Context for the joint family from arrays (the loader's second half; synthetic tests use it directly).
-    ``tension``: the optional load-cell column (tension of one cable side [N])."""
+    ``tension``: the optional load-cell column (tension of one cable side [N]). ``align``: identify the columns'
+    timing within a sample (:func:`column_lag_s`) and shift the base model by it."""
     t = np.asarray(t, float)
     base = rigid_joint_angle(motor, d)
     dt = op.uniform_dt(t)
@@ -224,13 +230,50 @@ def joint_context(t: np.ndarray, motor: np.ndarray, joint: np.ndarray, d: JointD
     macc = op.lowpass_derivative(t, np.asarray(motor, float), cutoff_hz=25.0, order=2)
     K = d.stiffness_nm_rad
     motion = op.second_order(t, base, d.bearing_damping_nm_s_rad / K, d.link_inertia_kg_m2 / K)
+    y = np.asarray(joint, float)
+    lag = column_lag_s(t, y, motion, dt) if align else 0.0
+    if lag:
+        shift = lambda x: np.interp(t - lag, t, x)      # noqa: E731  (the model seen lag seconds later)
+        base, motion, vel, acc = shift(base), shift(motion), shift(vel), shift(acc)
     signals = {"input": np.asarray(motor, float), "position": base, "velocity": vel, "acceleration": acc,
                "motion": motion,
                "motor_acceleration": macc, "travel": op.travel(d.ratio * smooth_motor), "time": t - t[0]}
     if tension is not None:
         signals["tension"] = np.asarray(tension, float)
-    return Context(t, np.asarray(joint, float), base, np.zeros((t.size, 0)), signals, source,
-                   meta={"design": d, "dt_s": dt})
+    # the base model is the design's drive: the rigid capstan's staircase through the drive stiffness and the link's
+    # inertia and damping (its ringing after each microstep is in every log); "position" keeps the staircase
+    return Context(t, y, motion, np.zeros((t.size, 0)), signals, source,
+                   meta={"design": d, "dt_s": dt, "column_lag_s": lag,
+                         "base_terms": (f"columns aligned within a sample: the joint reading {1e3 * lag:+.3f} ms "
+                                        f"behind the motor column (identified)",) if lag else ()})
+
+
+#: Where within a sample the logged command acts, relative to the joint reading of the same row, in sample periods
+#: of the base model (which ramps the command between samples: a change centred half a sample before its row).
+#: The convention the base model declares is a loop that reads the sensor at t_i, then commands: the row's command
+#: acts from t_i on and its reading saw only the rows before, +0.5. A loop that commands, then reads, logs a
+#: reading the row's command has already moved: up to one sample earlier, -0.5. Neither is physics and a log does
+#: not say which, so the lag is identified in this window; no physical effect makes the joint lead its command,
+#: while friction, compliance and a sensor delay all make it lag, so the window ends at the declared convention
+#: and any lag beyond it is left to the effects.
+COLUMN_LAG_SAMPLES = (-0.5, 0.5)
+
+
+def column_lag_s(t: np.ndarray, y: np.ndarray, motion: np.ndarray, dt: float) -> float:
+    """The base model's alignment of the two columns [s]: the lag within :data:`COLUMN_LAG_SAMPLES` sample periods
+    minimising the variance of ``y - motion(t - lag)`` (least squares, bounded; a constant offset does not move
+    it), snapped to 0 or a bound within 2 % of a sample of it."""
+    from scipy.optimize import minimize_scalar
+
+    def cost(lag):
+        return float(np.var(y - np.interp(t - lag, t, motion)))
+    lo, hi = COLUMN_LAG_SAMPLES[0] * dt, COLUMN_LAG_SAMPLES[1] * dt
+    res = minimize_scalar(cost, bounds=(lo, hi), method="bounded", options={"xatol": 0.01 * dt})
+    lag = float(res.x)
+    for snap in (lo, 0.0, hi):               # the bounded search never lands on a bound exactly
+        if abs(lag - snap) < 0.02 * dt:
+            return snap
+    return lag
 
 
 def check_excitation(ctx: Context, path: str) -> None:
@@ -258,7 +301,7 @@ def check_excitation(ctx: Context, path: str) -> None:
     if reversals < 4:
         raise UserError(f"{path}: column 'motor_angle_rad' reverses {reversals} time(s); at least 4 reversals "
                         f"are needed (friction, backlash and offsets need motion both ways)")
-    rigid = ctx.base
+    rigid = ctx.signals["position"]
     jy = ctx.y
     copy = _copied_motor_column(jy, motor, rigid)
     if copy:
@@ -335,7 +378,7 @@ def _unit_coef(name: str = "gain") -> Param:
 
 
 def _dyn(ctx: Context, t1: float, t2: float) -> np.ndarray:
-    return op.second_order(ctx.t, ctx.base, t1, t2) - ctx.base
+    return op.second_order(ctx.t, ctx.signals["position"], t1, t2) - ctx.base
 
 
 class _E(Effect):
@@ -367,7 +410,47 @@ def _offset() -> Effect:
               columns_fn=lambda ctx, nl: np.ones(ctx.n))
 
 
+def tension_angle_slope(ctx: Context) -> tuple[float, float] | None:
+    """From the optional load cell: how side A's tension follows the joint angle [N/rad] and its standard error
+    (least squares of tension on angle, with the direction of motion and the speed as nuisance terms), or None
+    without a load cell. A torque that grows with the angle (a spring at the hinge: a wire harness, a seal) pulls
+    one side by k theta / (2 d_mount); a transmission-ratio error moves the joint without any torque."""
+    T = ctx.meta.get("parent", ctx).signals.get("tension")
+    if T is None:
+        return None
+    full = ctx.meta.get("parent", ctx)
+    cached = full.meta.get("_tension_angle")
+    if cached is not None:
+        return cached
+    w = op.derivative(full.t, full.y, window_s=0.03, order=1)
+    X = np.column_stack([np.ones(full.n), full.y, np.sign(w), w])
+    coef, *_ = np.linalg.lstsq(X, T, rcond=None)
+    r = T - X @ coef
+    sigma = float(np.sqrt(r @ r / max(r.size - X.shape[1], 1)))
+    # the residual is not white (dynamics): the standard error inflated as for ~20-sample correlation
+    se = sigma * float(np.sqrt(np.linalg.pinv(X.T @ X)[1, 1])) * math.sqrt(20.0)
+    out = (float(coef[1]), se)
+    full.meta["_tension_angle"] = out
+    return out
+
+
 def _effective_radius() -> Effect:
+    def plaus(v, ctx):
+        meas = tension_angle_slope(ctx)
+        if meas is None:
+            return []
+        d = _d(ctx)
+        # the same residual made by a spring at the hinge: theta lags by k theta / K, so k = -ratio_error K
+        spring = -v["ratio_error"] * d.stiffness_nm_rad / (2.0 * d.moment_arm_m)      # its tension slope [N/rad]
+        s, se = meas
+        if abs(spring) < 3.0 * se:
+            return []
+        if s * spring > 0 and abs(s) > 0.5 * abs(spring):
+            return [f"the load cell's tension follows the joint angle by {s:.3g} N/rad, as a spring of "
+                    f"{-v['ratio_error'] * d.stiffness_nm_rad:.3g} N m/rad at the hinge would ({spring:.3g} N/rad): "
+                    f"the scale error is a torque growing with the angle, not the spool's radius"]
+        return []
+
     def phys(v, s, ctx):
         d = _d(ctx)
         return {"spool_radius_mm": (1000 * d.spool_radius_m * (1 + v["ratio_error"]),
@@ -378,7 +461,11 @@ def _effective_radius() -> Effect:
               fingerprint="a residual proportional to the joint angle (a scale error): a straight line in residual "
                           "vs position through the origin",
               linear=(Param("ratio_error", "-", -0.5, 1.0, "relative error of r_spool / d_mount"),),
-              fingerprint_axis="position", columns_fn=lambda ctx, nl: ctx.base, physical_fn=phys)
+              fingerprint_axis="position", columns_fn=lambda ctx, nl: ctx.base, physical_fn=phys,
+              plausible_fn=plaus,
+              twins_outside="a sensor scale error (the sensor reads a fixed multiple of the angle) leaves the same "
+                            "residual and the same tension: a second angle reference (the link photographed or set "
+                            "against a protractor at two angles) tells the spool from the sensor")
 
 
 def _cable_compliance() -> Effect:
@@ -517,7 +604,11 @@ def _hysteresis_by_load_cell(kind: str, half_width_of):
 def _play_effect(name, meaning, fingerprint, pname, unit, lo, hi, to_half_width, phys, kind):
     def cols(ctx, nl):
         h = to_half_width(ctx, nl[pname])
-        return op.play(ctx.base, h) - ctx.base
+        d = _d(ctx)
+        K = d.stiffness_nm_rad
+        # the play acts on the drive's input (the staircase), the link then follows through its own dynamics
+        return op.second_order(ctx.t, op.play(ctx.signals["position"], h), d.bearing_damping_nm_s_rad / K,
+                               d.link_inertia_kg_m2 / K) - ctx.base
     return _E(name=name, meaning=meaning, fingerprint=fingerprint, linear=(_unit_coef(),),
               nonlinear=(Param(pname, unit, lo, hi, "", scale="log", grid=16),), fingerprint_axis="velocity",
               columns_fn=cols, physical_fn=phys,
@@ -558,7 +649,7 @@ def _slack() -> Effect:
     def cols(ctx, nl):
         d = _d(ctx)
         one_side = in_series(d.cable_stiffness_nm_rad / 2.0, d.motor_stiffness_nm_rad)
-        return op.deadzone_drive(ctx.t, ctx.base, one_side, d.link_inertia_kg_m2,
+        return op.deadzone_drive(ctx.t, ctx.signals["position"], one_side, d.link_inertia_kg_m2,
                                  d.bearing_damping_nm_s_rad, nl["slack_rad"]) - ctx.base
 
     def phys(v, s, ctx):
@@ -663,7 +754,8 @@ FAMILY = Family(
     columns=COLUMNS,
     target="joint_angle_rad",
     target_unit="rad",
-    base_terms=("rigid capstan: theta = (r_spool / d_mount) q round(phi / q)  (paper eq. 48 inverted)",),
+    base_terms=("rigid capstan: theta = (r_spool / d_mount) q round(phi / q)  (paper eq. 48 inverted)",
+                "through the design's drive: J theta'' + c theta' + K theta = K theta_rigid",),
     effects=EFFECTS,
     load=load,
     equivalent_effects=EQUIVALENT,

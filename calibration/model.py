@@ -168,6 +168,10 @@ class Effect:
     #: names of the effects this one modifies (asymmetric friction refines viscous friction): it is a
     #: candidate only once they are in the model, and loses to any accepted primary effect (marginality)
     refines: tuple[str, ...] = ()
+    #: what outside the library leaves the same fingerprint in this family's columns, and the measurement that
+    #: separates them ("" if nothing known): the effect is then named with "medium" confidence at most, and the
+    #: report says so
+    twins_outside: str = ""
 
     def __init__(self, **kw: Any):
         for k, v in kw.items():

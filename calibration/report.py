@@ -230,6 +230,10 @@ def markdown(rep: dict, plots: dict[str, str]) -> str:
         for k, v in e.get("physical", {}).items():
             lines.append(f"| {k} (derived) | {_fmt(v['value'], v['std'], v['unit'])} |")
         lines.append("")
+        if e.get("twins_outside"):
+            lines += [f"*Outside the library, the same fingerprint:* {e['twins_outside']}.", ""]
+        if e["evidence"].get("confidence_capped"):
+            lines += [f"Confidence capped at {e['confidence']}: {e['evidence']['confidence_capped']}.", ""]
         if e["indistinguishable_from"]:
             lines += [f"The data cannot tell this effect from: **{', '.join(e['indistinguishable_from'])}** "
                       f"(held-out errors not significantly different). Treat the name as one of these.", ""]
@@ -286,6 +290,7 @@ def write_report(cal: Calibrator, out_dir: str | Path, *, data: str = "", holdou
         eff = cal.family.effect(e["name"])
         e["meaning"] = eff.meaning
         e["fingerprint"] = eff.fingerprint
+        e["twins_outside"] = eff.twins_outside
     files: dict[str, str] = {}
     if plots:
         plot_measured_vs_model(cal, out / "measured_vs_model.png")

@@ -1,6 +1,7 @@
 """Synthetic bench logs of a capstan joint, simulated physically (for testing the calibration engine).
 
-Chain: commanded joint trajectory -> stepper microsteps (eq. 48, the controller uses the design ratio) ->
+Chain: commanded joint trajectory -> stepper microsteps (eq. 48, the controller uses the design ratio; updated once per
+logged sample, after the sample's reading: read, then command) ->
 rotor (slips 4 full steps, over 5 ms, when over-accelerated: ``lost_steps``; periodic microstep error: ``cogging``) ->
 spool (loose on the shaft: ``backlash``; radius x ``effective_radius``; cable creeping on the drum: ``capstan_creep``) -> two pretensioned cables
 of stiffness E A / L each (x ``cable_compliance``; a side goes slack when the load exceeds 2 T0 d_mount;
@@ -153,8 +154,9 @@ def simulate_joint(d: JointDesign, effects: dict[str, float] | None = None, *, d
     h = 1.0 / (rate_hz * substeps)
     tf = np.arange(n * substeps) * h
     th_cmd, th_acc = bench_command(tf, seed) if command is None else command(tf)
-    # controller: eq. 48 with the design ratio; integer microsteps
-    steps = np.rint(th_cmd / d.ratio / d.microstep_rad)
+    # controller: eq. 48 with the design ratio; integer microsteps, updated once per logged sample (a loop that reads
+    # the sensor at t_i, then commands: the row's command acts from t_i on, its reading saw the rows before)
+    steps = np.repeat(np.rint(th_cmd[::substeps] / d.ratio / d.microstep_rad), substeps)[: tf.size]
     phi_cmd_acc = th_acc / d.ratio
     rotor = steps * d.microstep_rad
     n_slips = 0

@@ -167,7 +167,10 @@ def test_physical_recovery_within_uncertainty(suite, name, param, true):
     ("added_mass", "added_inertia_kg_m2", 3e-4, 0.05),
     ("cable_compliance", "stiffness_factor", 0.1, 0.1),
     ("lost_steps", "slip_rad", None, 0.02),              # 4 full steps x r / d_mount
-    ("quadratic_drag", "drag_over_stiffness_s2", None, 0.15),
+    # the bench commands on 1 ms ticks, so the link moves in jerks (2-3 ticks per microstep) and b w|w| of its
+    # rippling speed has a part linear in the mean speed: the engine names it viscous_friction beside the drag,
+    # which keeps 0.68 of b (0.15 when the microsteps came at their own times)
+    ("quadratic_drag", "drag_over_stiffness_s2", None, 0.35),
     # the creep estimate sits 0.09-0.23 % high on the bench simulator (z = +1.8 ... +4.5 over seeds 8-21, on the
     # 0.545 and 0.555 L designs alike), while the model-consistent recovery below is exact: the simulator's creep
     # is not quite the effect's model, and its sigma (0.05 %) does not cover that
@@ -249,3 +252,54 @@ def test_windowed_selection_on_long_logs(d, effects, seed):
     for fe in win.added_effects_:
         for k, v in fe.values.items():
             assert v == pytest.approx(vf[k][0], rel=0.02, abs=3 * vf[k][1]), k
+
+
+# ------------------------------------------------------------------------- the base model's timing and twins
+
+@pytest.mark.parametrize("lag_samples", [-0.5, -0.3, 0.0, 0.2, 0.5])
+def test_column_lag_recovered_within_its_window(d, lag_samples):
+    """A reading whose motion is the base model's ``lag`` later (noise-free, plus an offset that must not move it)
+    gives back that lag to 2 % of a sample; the window is half a sample either side of read-then-command."""
+    from swiftfin.calibration.joint import COLUMN_LAG_SAMPLES, column_lag_s
+    assert COLUMN_LAG_SAMPLES == (-0.5, 0.5)
+    log = simulate_joint(d, {}, duration_s=6.0, seed=3, noise_rad=0.0, encoder_counts=None)
+    ctx = joint_context(log.t, log.motor_angle_rad, log.joint_angle_rad, d, align=False)
+    dt = float(np.median(np.diff(log.t)))
+    y = np.interp(log.t - lag_samples * dt, log.t, ctx.base) + 0.01
+    assert column_lag_s(log.t, y, ctx.base, dt) == pytest.approx(lag_samples * dt, abs=0.02 * dt)
+
+
+def test_column_lag_stops_at_its_window(d):
+    """A lag beyond the window (a sensor delay of 2 ms) is left to the effects: the alignment stops at the bound."""
+    from swiftfin.calibration.joint import column_lag_s
+    log = simulate_joint(d, {}, duration_s=6.0, seed=3, noise_rad=0.0, encoder_counts=None)
+    ctx = joint_context(log.t, log.motor_angle_rad, log.joint_angle_rad, d, align=False)
+    dt = float(np.median(np.diff(log.t)))
+    assert column_lag_s(log.t, np.interp(log.t - 0.002, log.t, ctx.base), ctx.base, dt) == 0.5 * dt
+    assert column_lag_s(log.t, np.interp(log.t + 0.002, log.t, ctx.base), ctx.base, dt) == -0.5 * dt
+
+
+def test_a_spring_at_the_hinge_is_not_an_effective_radius(d):
+    """The same position-proportional residual, told apart by the load cell: a spring k at the hinge pulls side A
+    by k theta / (2 d_mount); a ratio error pulls nothing. The effective radius is then implausible."""
+    from swiftfin.calibration.joint import EFFECTS, tension_angle_slope
+    eff = next(e for e in EFFECTS if e.name == "effective_radius")
+    log = simulate_joint(d, {}, seed=5)
+    k = 0.05                                   # N m/rad, the independent bench's wire harness
+    ratio_error = -k / d.stiffness_nm_rad      # the residual it leaves: -k theta / K
+    spring = log.cable_tension_n + k * log.true_joint_angle_rad / (2 * d.moment_arm_m)
+    with_spring = joint_context(log.t, log.motor_angle_rad, log.joint_angle_rad, d, tension=spring)
+    plain = joint_context(log.t, log.motor_angle_rad, log.joint_angle_rad, d, tension=log.cable_tension_n)
+    s, se = tension_angle_slope(with_spring)
+    assert s == pytest.approx(k / (2 * d.moment_arm_m), rel=0.1) and se < 0.1 * s
+    assert eff.plausible({"ratio_error": ratio_error}, with_spring)
+    assert not eff.plausible({"ratio_error": ratio_error}, plain)
+    assert eff.twins_outside and "sensor" in eff.twins_outside
+
+
+def test_an_effective_radius_is_named_below_high_confidence(suite):
+    """A sensor scale error leaves the same residual and tension as a ratio error: never "high", and the capped
+    confidence says why."""
+    fe = suite["effective_radius"].added_effects_[0]
+    assert fe.name == "effective_radius" and fe.confidence == "medium"
+    assert "sensor scale error" in fe.evidence["confidence_capped"]
