@@ -7,7 +7,8 @@ Plots (matplotlib, Agg backend, written next to the report):
 * ``residual_vs_<effect>.png`` for each added effect: the residual *before* that effect was added against the
   effect's fingerprint axis (velocity, acceleration, position, travel or time), with its binned mean and the
   effect's fitted contribution on top: the picture that says why that effect was chosen;
-* ``residual_spectrum.png``  Welch spectra of the held-out residual before and after, and its autocorrelation.
+* ``residual_spectrum.png``  spectra of the residual before and after over the shown series' whole record (Welch,
+  from 4 / its span, below the slowest motion), and the held-out residual's autocorrelation.
 
 Every number the markdown prints comes from :meth:`calibration.engine.Calibrator.report_dict` (the JSON).
 """
@@ -136,22 +137,47 @@ def plot_fingerprint(cal: Calibrator, j: int, path: Path, max_points: int = 2000
     plt.close(fig)
 
 
-def plot_spectrum(cal: Calibrator, path: Path) -> None:
+def residual_psd(t: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """One-sided power spectral density of ``r`` over contiguous rows at times ``t`` [unit^2/Hz]: Welch's average
+    of four-times-overlapping Hann segments a quarter of the rows long, so the first frequency above zero is
+    4 / the span and the spectrum starts below the record's slowest motion (the bench command's 0.37-0.5 Hz over a
+    40 s log, a tail beat over a few of its periods). The zero-frequency bin is dropped."""
     from scipy import signal
+    t = np.asarray(t, float)
+    r = np.asarray(r, float)
+    dt = float(np.median(np.diff(t)))
+    f, p = signal.welch(r - r.mean(), fs=1.0 / dt, nperseg=max(16, r.size // 4))
+    return f[1:], p[1:]
+
+
+def _series_rows(cal: Calibrator, ctx: Context, shown: np.ndarray) -> np.ndarray:
+    """Every row (training and held-out) of the series the report shows, as one contiguous run."""
+    idx = np.flatnonzero(shown)
+    if ctx.series is None or idx.size == 0:
+        return np.arange(ctx.n)
+    return _first_block(ctx.series == ctx.series[idx[0]], ctx.n)
+
+
+def plot_spectrum(cal: Calibrator, path: Path) -> None:
     plt = _plt()
     ctx, hold = _holdout_view(cal)
-    rows = _first_block(_shown_rows(cal, ctx, hold), ctx.n)
+    shown = _shown_rows(cal, ctx, hold)
+    every = _series_rows(cal, ctx, shown)            # the whole record of the shown series: no gap to bridge
+    rows = _first_block(shown, ctx.n)                # held-out rows, contiguous, for the autocorrelation
     dt = float(np.median(np.diff(ctx.t[rows]))) if rows.size > 1 else float(np.median(np.diff(ctx.t)))
     fig, ax = plt.subplots(1, 2, figsize=(10, 4), layout="constrained")
     for k, (lab, col) in enumerate((("base model", "tab:red"), ("final model", "tab:blue"))):
-        r = cal.residual(ctx, 0 if k == 0 else None)[rows]
-        if r.size < 16:
+        res = cal.residual(ctx, 0 if k == 0 else None)
+        r = res[rows]
+        if r.size < 16 or every.size < 64:
             continue
-        f, pxx = signal.welch(r - r.mean(), fs=1.0 / dt, nperseg=min(4096, r.size // 2 or 8))
-        ax[0].semilogy(f[1:], pxx[1:], color=col, lw=1, label=f"residual, {lab}")
+        f, pxx = residual_psd(ctx.t[every], res[every])
+        ax[0].loglog(f, pxx, color=col, lw=1, label=f"residual, {lab}")
         from swiftfin.calibration.statistics import acf
         a = acf(r, min(200, r.size // 3))
         ax[1].plot(np.arange(a.size) * dt, a, color=col, lw=1, label=lab)
+    ax[0].set_title("whole record (training and held-out rows)", fontsize=8)
+    ax[1].set_title("held-out rows", fontsize=8)
     ax[0].set_xlabel("frequency [Hz]")
     ax[0].set_ylabel(f"PSD [{cal.target_unit_}^2/Hz]")
     ax[0].legend(fontsize=8)

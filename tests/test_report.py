@@ -594,3 +594,18 @@ def test_cli_refuses_a_bad_solve_file(tmp_path, capsys):
     assert main(["report", str(DEFAULT_DESIGN), "--out", str(tmp_path / "o"), "--solve", str(tmp_path / "no.json")]) == 2
     assert "no such file" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+def test_residual_spectrum_starts_below_the_slowest_motion():
+    """The fit report's residual spectrum (calibration.report.residual_psd) over a 40 s record: its first frequency
+    is 4 / the span (0.1 Hz, below the bench command's 0.37-0.5 Hz), a 0.5 Hz sine peaks at 0.5 Hz, and white noise
+    sits at 2 s^2 dt."""
+    from swiftfin.calibration.report import residual_psd
+    rng = np.random.default_rng(4)
+    dt = 0.001
+    t = np.arange(0, 40, dt)
+    f, p = residual_psd(t, 0.02 * np.sin(2 * np.pi * 0.5 * t))
+    assert f[0] == pytest.approx(4 / 40.0, rel=0.01)
+    assert abs(f[np.argmax(p)] - 0.5) < 0.11
+    f, p = residual_psd(t, rng.normal(0, 0.01, t.size))
+    assert np.median(p) == pytest.approx(2 * 0.01 ** 2 * dt, rel=0.1)
