@@ -39,6 +39,7 @@ SINDY_GRID = {
     "cable_slack": ("slack_rad", (0.0015, 0.005, 0.015)),
     "sensor_delay": ("delay_s", (0.003, 0.01, 0.03)),
     "lost_steps": ("slip_acceleration_rad_s2", (120.0, 150.0, 170.0)),
+    "stepper_torque": ("torque_fraction", (0.003, 0.03, 0.3)),
 }
 
 

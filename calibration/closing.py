@@ -23,6 +23,7 @@ effective_radius       ``spool_radius_ratio``                 1 + ``ratio_error`
 offset, sensor_delay,  ``sensor_offset_rad``,                 as fitted (recorded only)
 capstan_creep,         ``sensor_delay_s``,
 lost_steps             ``creep_per_travel``, ``slip_rad``
+stepper_torque         ``motor_holding_torque_nm``            the effect's physical value (recorded)
 =====================  =====================================  ==================================================
 
 An effect the fit named at low confidence, or as indistinguishable from another, is written with that
@@ -75,6 +76,7 @@ MAPPING: dict[str, tuple[tuple[str, object], ...]] = {
     "sensor_delay": (("sensor_delay_s", lambda e: _p(e, "delay_s")),),
     "capstan_creep": (("creep_per_travel", lambda e: _p(e, "creep_per_travel")),),
     "lost_steps": (("slip_rad", lambda e: _p(e, "slip_rad")),),
+    "stepper_torque": (("motor_holding_torque_nm", lambda e: _phys(e, "holding_torque_nm")),),
 }
 
 

@@ -201,3 +201,45 @@ def deadzone_drive(t: np.ndarray, u: np.ndarray, stiffness: float, inertia: floa
     h = uniform_dt(t) / substeps
     return _DEADZONE(np.ascontiguousarray(u, dtype=np.float64), h, substeps, float(stiffness), float(inertia),
                      float(damping), float(half_width))
+
+
+_STEPPER = None
+
+
+def stepper_drive(t: np.ndarray, motor_cmd: np.ndarray, ratio: float, holding_torque: float, cycle: float,
+                  rotor_inertia: float, rotor_damping: float, cable_stiffness: float, inertia: float, damping: float,
+                  substeps: int = 5) -> np.ndarray:
+    """The joint angle [rad] of a hybrid stepper driving a link through a cable pair: the rotor (``rotor_inertia``,
+    ``rotor_damping``) pulled toward the commanded motor angle by ``holding_torque sin(2 pi (phi_cmd - phi) /
+    cycle)`` (one electrical cycle = 4 full steps: past a quarter cycle of lag it slips whole cycles), the pair a
+    spring of ``cable_stiffness`` at the joint between ``ratio phi`` and the link (``inertia``, ``damping``).
+    Semi-implicit Euler at ``substeps`` steps per sample, the command held over each sample and each sample's
+    reading the mean of the link's angle at its start and end (as the base model's ramp between samples places
+    the command half a sample early); starts at rest on motor_cmd[0]; compiled with numba on first use."""
+    global _STEPPER
+    if _STEPPER is None:
+        from numba import njit
+
+        @njit(cache=True, nogil=True)
+        def run(u, h, n_sub, r, T, cyc, Jr, cr, K, J, c):
+            out = np.empty(u.size)
+            phi = u[0]
+            wr = 0.0
+            th = r * u[0]
+            w = 0.0
+            k = 2.0 * np.pi / cyc
+            for i in range(u.size):
+                before = th
+                for _ in range(n_sub):
+                    tc = K * (r * phi - th)
+                    wr = (wr + h * (T * np.sin(k * (u[i] - phi)) - r * tc) / Jr) / (1.0 + h * cr / Jr)
+                    phi += h * wr
+                    w = (w + h * tc / J) / (1.0 + h * c / J)
+                    th += h * w
+                out[i] = 0.5 * (before + th)
+            return out
+        _STEPPER = run
+    h = uniform_dt(t) / substeps
+    return _STEPPER(np.ascontiguousarray(motor_cmd, dtype=np.float64), h, substeps, float(ratio), float(holding_torque),
+                    float(cycle), float(rotor_inertia), float(rotor_damping), float(cable_stiffness), float(inertia),
+                    float(damping))

@@ -177,6 +177,8 @@ class JointDesign:
     link_inertia_kg_m2: float = BENCH_LINK_INERTIA_KG_M2
     bearing_damping_nm_s_rad: float = BENCH_BEARING_DAMPING_NM_S_RAD
     motor_stiffness_nm_rad: float = math.inf    # the stepper held at its step, seen at the joint
+    holding_torque_nm: float = 0.0              # the catalogue's, at the motor (0: unknown)
+    rotor_inertia_kg_m2: float = 0.0            # the catalogue's, at the motor
 
     @property
     def cable_stiffness_nm_rad(self) -> float:
@@ -208,7 +210,8 @@ def joint_design(p: Params, joint: int | None = None) -> JointDesign:
     L = cable_route_length_m(p, j + 1)
     return JointDesign(j, r, m, r / m, full, q, joint_resolution_rad(full, p.motor.microsteps, m, r), L,
                        cable_side_stiffness_n_m(p, L), drive_stiffness_nm_rad(p, j + 1), p.cable.pretension_n,
-                       p.cable.youngs_modulus_gpa, motor_stiffness_nm_rad=joint_stiffness_nm_rad(p))
+                       p.cable.youngs_modulus_gpa, motor_stiffness_nm_rad=joint_stiffness_nm_rad(p),
+                       holding_torque_nm=p.motor.holding_torque_nm, rotor_inertia_kg_m2=p.motor.rotor_inertia_kg_m2)
 
 
 def rigid_joint_angle(motor_angle_rad: np.ndarray, d: JointDesign) -> np.ndarray:
@@ -678,6 +681,62 @@ def _slack() -> Effect:
               fingerprint_axis="velocity", columns_fn=cols, physical_fn=phys, plausible_fn=plaus)
 
 
+#: Damping ratio of the stepper's rotor on its own holding stiffness at the catalogue torque (bearings, iron
+#: losses; a chopper driver's current loop adds little). An estimate: the fit's stepper_torque is not sensitive to
+#: it where the motor is weak enough to matter.
+ROTOR_DAMPING_RATIO = 0.02
+
+
+def _stepper_torque() -> Effect:
+    """A stepper weaker than its catalogue (issue 14 item 2): the rotor on the hybrid stepper's periodic torque,
+    with its inertia, behind the cable pair; it lags by its own compliance and slips whole electrical cycles where
+    the load passes its torque, anywhere in the log (not only at acceleration peaks)."""
+    def sim(ctx, fraction):
+        d = _d(ctx)
+        cyc = SLIP_FULL_STEPS * d.full_step_rad
+        k_motor = d.holding_torque_nm * 2 * math.pi / cyc
+        c_rotor = 2 * ROTOR_DAMPING_RATIO * math.sqrt(k_motor * d.rotor_inertia_kg_m2)
+        # substeps: the fastest mode (the rotor on the weakened stepper and the cable, or the link on the cable)
+        # at <= 0.5 rad a step (semi-implicit Euler is stable to 2)
+        w_rotor = math.sqrt((fraction * k_motor + d.cable_stiffness_nm_rad * d.ratio ** 2) / d.rotor_inertia_kg_m2)
+        w_link = math.sqrt(d.cable_stiffness_nm_rad / d.link_inertia_kg_m2)
+        n_sub = max(2, math.ceil(max(w_rotor, w_link) * op.uniform_dt(ctx.t) / 0.5))
+        return op.stepper_drive(ctx.t, ctx.signals["position"] / d.ratio, d.ratio, fraction * d.holding_torque_nm,
+                                cyc, d.rotor_inertia_kg_m2, c_rotor, d.cable_stiffness_nm_rad, d.link_inertia_kg_m2,
+                                d.bearing_damping_nm_s_rad, substeps=n_sub)
+
+    def cols(ctx, nl):
+        if _d(ctx).holding_torque_nm <= 0 or _d(ctx).rotor_inertia_kg_m2 <= 0:
+            return np.zeros(ctx.n)
+        full = ctx.meta.get("parent", ctx)          # slips carry over: simulate the whole record (once per value:
+        cached = full.meta.get("_stepper_sim")      # a windowed selection asks for it window by window)
+        if cached is not None and cached[0] == nl["torque_fraction"]:
+            theta = cached[1]
+        else:
+            theta = sim(full, nl["torque_fraction"])
+            full.meta["_stepper_sim"] = (nl["torque_fraction"], theta)
+        if full is not ctx:
+            theta = theta[np.searchsorted(full.t, ctx.t)]
+        return theta - ctx.base
+
+    def phys(v, s, ctx):
+        T = _d(ctx).holding_torque_nm
+        return {"holding_torque_nm": (v["torque_fraction"] * T, s["torque_fraction"] * T, "N m")}
+
+    def plaus(v, ctx):
+        return [] if v["torque_fraction"] < 0.9 else ["holding torque within 10 % of the catalogue's: no effect"]
+    return _E(name="stepper_torque",
+              meaning="The stepper gives less torque than its catalogue holding torque (driver current set low, a "
+                      "weak supply, a hot motor): its stiffness falls with it, the joint swings behind the command, "
+                      "and it loses whole electrical cycles (4 full steps) wherever the load passes its torque.",
+              fingerprint="a lag and ringing far beyond the cable's (the motor's spring is the soft one), with "
+                          "permanent jumps of 4 full steps x r / d_mount where the load peaks: residual against time",
+              linear=(_unit_coef(),),
+              nonlinear=(Param("torque_fraction", "-", 1e-4, 1.0, "holding torque / the catalogue's",
+                               scale="log", grid=13),),
+              fingerprint_axis="time", columns_fn=cols, physical_fn=phys, plausible_fn=plaus)
+
+
 def _creep() -> Effect:
     return _E(name="capstan_creep",
               meaning="The cable slowly slides around the drum (or walks along the groove) in one direction: a "
@@ -741,7 +800,7 @@ def _lost_steps() -> Effect:
 
 EFFECTS: tuple[Effect, ...] = (_offset(), _effective_radius(), _cable_compliance(), _coulomb(), _viscous(),
                                _quadratic_drag(), _added_mass(), _backlash(), _slack(), _creep(), _delay(),
-                               _lost_steps())
+                               _lost_steps(), _stepper_torque())
 
 EFFECT_NAMES = tuple(e.name for e in EFFECTS)
 

@@ -73,6 +73,9 @@ JOINT_QUANTITIES: dict[str, Quantity] = {
     "creep_per_travel": Quantity("rad/rad", None, False,
                                  "recorded: cable creep round the drum per joint radian travelled"),
     "slip_rad": Quantity("rad", None, False, "recorded: joint angle lost per missed-step event"),
+    "motor_holding_torque_nm": Quantity("N m", 0.0, True,
+                                        "recorded: the torque the stepper gave on the bench, below its catalogue "
+                                        "value (check the driver's current setting before changing the design)"),
 }
 APPLIED = ("hinge_damping_nm_s_rad", "hinge_friction_nm", "joint_stiffness_nm_rad")
 #: design keys a calibration may revise (the schema's range applies to the revised value)

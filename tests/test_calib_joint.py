@@ -303,3 +303,40 @@ def test_an_effective_radius_is_named_below_high_confidence(suite):
     fe = suite["effective_radius"].added_effects_[0]
     assert fe.name == "effective_radius" and fe.confidence == "medium"
     assert "sensor scale error" in fe.evidence["confidence_capped"]
+
+
+# ----------------------------------------------------------------------------- the stepper's own torque
+
+def test_stepper_drive_rings_at_the_stepper_and_cable_in_series(d):
+    """A small command step, a heavy link: the link rings at sqrt(K / J) with K the cable pair in series with the
+    stepper's small-signal stiffness T_hold 2 pi / cycle (at the motor; / ratio^2 at the joint)."""
+    from swiftfin.calibration import effects as op
+    dt = 1e-4
+    t = np.arange(0, 0.6, dt)
+    cyc = 4 * d.full_step_rad
+    cmd = np.where(t > 0.05, 2 * d.microstep_rad, 0.0)
+    J = 2e-4
+    th = op.stepper_drive(t, cmd, d.ratio, d.holding_torque_nm, cyc, 1e-7, 0.0, d.cable_stiffness_nm_rad, J, 0.0)
+    x = th[600:] - np.mean(th[600:])
+    zc = np.flatnonzero(np.diff(np.sign(x)) != 0)
+    omega = np.pi / (np.mean(np.diff(zc)) * dt)
+    k_motor = d.holding_torque_nm * 2 * np.pi / cyc / d.ratio ** 2
+    K = 1 / (1 / d.cable_stiffness_nm_rad + 1 / k_motor)
+    assert omega == pytest.approx(np.sqrt(K / J), rel=0.02)
+    assert k_motor == pytest.approx(d.motor_stiffness_nm_rad, rel=1e-9)   # the same stepper as the base model's
+
+
+def test_stepper_drive_slips_whole_electrical_cycles(d):
+    """A motor at 2 % of its torque asked to throw a heavy link 0.5 rad in 30 ms: it loses synchronism, and where
+    it settles the joint is off the command by whole electrical cycles (4 full steps x ratio)."""
+    from swiftfin.calibration import effects as op
+    dt = 1e-4
+    t = np.arange(0, 3.0, dt)
+    cyc = 4 * d.full_step_rad
+    cmd = 0.5 / d.ratio * np.clip((t - 0.1) / 0.03, 0.0, 1.0)
+    th = op.stepper_drive(t, cmd, d.ratio, 0.02 * d.holding_torque_nm, cyc, d.rotor_inertia_kg_m2, 1e-4,
+                          d.cable_stiffness_nm_rad, 2e-4, 1e-3)
+    end = np.mean(th[-2000:]) - 0.5
+    cycles = end / (d.ratio * cyc)
+    assert abs(end) > 0.5 * d.ratio * cyc
+    assert abs(cycles - round(cycles)) < 0.05
