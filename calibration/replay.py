@@ -83,7 +83,9 @@ def bench_mjcf(rj: ReplayJoint, link_inertia_kg_m2: float, timestep_s: float) ->
 def replay(t: np.ndarray, motor_angle_rad: np.ndarray, d: JointDesign, rj: ReplayJoint, link_inertia_kg_m2: float,
            ratio_scale: float = 1.0, offset_rad: float = 0.0, delay_s: float = 0.0) -> np.ndarray:
     """The joint angle MuJoCo gives at the log's times [rad]: the bench of :func:`bench_mjcf` driven by the
-    commanded staircase (times ``ratio_scale``), read by a sensor with ``offset_rad`` and ``delay_s``."""
+    commanded staircase (times ``ratio_scale``), each row's command acting from its time on and its reading taken
+    before it (read, then command), read by a sensor with ``offset_rad`` and ``delay_s`` (negative: the log's
+    reading leads that convention, as the fit's column alignment may have found)."""
     import mujoco
     from mujoco import rollout
 
@@ -98,8 +100,8 @@ def replay(t: np.ndarray, motor_angle_rad: np.ndarray, d: JointDesign, rj: Repla
     mujoco.mj_getState(m, data, state, mujoco.mjtState.mjSTATE_FULLPHYSICS)
     ctrl = np.repeat(u, SUBSTEPS)[:, None]
     _, sens = rollout.rollout(m, data, state, ctrl[None])
-    theta = sens[0, SUBSTEPS - 1::SUBSTEPS, 0]
-    if delay_s > 0:
+    theta = sens[0, 0::SUBSTEPS, 0]         # a step's sensors see the state at its start: t_i, before u_i acts
+    if delay_s:
         theta = np.interp(t - delay_s, t, theta)
     return theta + offset_rad
 
@@ -182,9 +184,14 @@ def replay_report(ctx, mjcf: str, exported: ReplayJoint, params, joint_cal) -> R
     inertia = d.link_inertia_kg_m2
     inertia_after = inertia + get("added_inertia_kg_m2", 0.0)
     motor = ctx.signals["input"]
-    sim_before = replay(ctx.t, motor, d, exported, inertia)
+    # the log's own timing, which the fit identified (calibration.joint.column_lag_s): how far its reading lags the
+    # read-then-command convention the replay follows (half a sample past the base model's ramp); both replays
+    # get it, as it belongs to the logger, not to the robot
+    dt = float(np.median(np.diff(ctx.t)))
+    timing = float(ctx.meta.get("column_lag_s", 0.5 * dt)) - 0.5 * dt
+    sim_before = replay(ctx.t, motor, d, exported, inertia, delay_s=timing)
     sim_after = replay(ctx.t, motor, d, after, inertia_after, ratio_scale=get("spool_radius_ratio", 1.0),
-                       offset_rad=get("sensor_offset_rad", 0.0), delay_s=get("sensor_delay_s", 0.0))
+                       offset_rad=get("sensor_offset_rad", 0.0), delay_s=get("sensor_delay_s", 0.0) + timing)
     y = np.asarray(ctx.y, float)
 
     def rmse(sim):
