@@ -179,7 +179,9 @@ def deadzone_drive(t: np.ndarray, u: np.ndarray, stiffness: float, inertia: floa
                    half_width: float, substeps: int = 5) -> np.ndarray:
     """A link of ``inertia`` and ``damping`` driven toward ``u`` through a spring of ``stiffness`` with a dead band
     of +- ``half_width`` (no force inside it: a slack cable pair), starting at rest at u[0]: semi-implicit Euler
-    at ``substeps`` steps per sample, u held over each sample; compiled with numba on first use."""
+    at ``substeps`` steps per sample, u held over each sample, each sample's reading the mean of the link's angle
+    at its start and end (as the base model's ramp between samples places the command half a sample early);
+    compiled with numba on first use."""
     global _DEADZONE
     if _DEADZONE is None:
         from numba import njit
@@ -190,12 +192,13 @@ def deadzone_drive(t: np.ndarray, u: np.ndarray, stiffness: float, inertia: floa
             th = u[0]
             w = 0.0
             for i in range(u.size):
+                before = th
                 for _ in range(n_sub):
                     e = u[i] - th
                     f = K * (e - s) if e > s else (K * (e + s) if e < -s else 0.0)
                     w = (w + h * f / J) / (1.0 + h * c / J)
                     th += h * w
-                out[i] = th
+                out[i] = 0.5 * (before + th)
             return out
         _DEADZONE = run
     h = uniform_dt(t) / substeps
