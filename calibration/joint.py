@@ -413,26 +413,36 @@ def _offset() -> Effect:
               columns_fn=lambda ctx, nl: np.ones(ctx.n))
 
 
+#: The load cell's residual is not white (the link's dynamics): a coefficient's standard error is inflated as for
+#: a correlation over about this many samples.
+LOAD_CELL_CORRELATION_SAMPLES = 20.0
+
+
+def _tension_coefficient(T: np.ndarray, X: np.ndarray, k: int) -> tuple[float, float]:
+    """Least squares of the load cell's tension ``T`` on the columns ``X``: coefficient ``k`` and its standard
+    error, inflated for the residual's correlation (:data:`LOAD_CELL_CORRELATION_SAMPLES`)."""
+    coef, *_ = np.linalg.lstsq(X, T, rcond=None)
+    r = T - X @ coef
+    sigma = float(np.sqrt(r @ r / max(r.size - X.shape[1], 1)))
+    se = sigma * float(np.sqrt(np.linalg.pinv(X.T @ X)[k, k])) * math.sqrt(LOAD_CELL_CORRELATION_SAMPLES)
+    return float(coef[k]), se
+
+
 def tension_angle_slope(ctx: Context) -> tuple[float, float] | None:
     """From the optional load cell: how side A's tension follows the joint angle [N/rad] and its standard error
     (least squares of tension on angle, with the direction of motion and the speed as nuisance terms), or None
     without a load cell. A torque that grows with the angle (a spring at the hinge: a wire harness, a seal) pulls
-    one side by k theta / (2 d_mount); a transmission-ratio error moves the joint without any torque."""
-    T = ctx.meta.get("parent", ctx).signals.get("tension")
+    one side by k theta / (2 d_mount); a transmission-ratio error moves the joint without any torque. Computed on
+    the whole record (``meta['parent']``)."""
+    full = ctx.meta.get("parent", ctx)
+    T = full.signals.get("tension")
     if T is None:
         return None
-    full = ctx.meta.get("parent", ctx)
     cached = full.meta.get("_tension_angle")
     if cached is not None:
         return cached
     w = op.derivative(full.t, full.y, window_s=0.03, order=1)
-    X = np.column_stack([np.ones(full.n), full.y, np.sign(w), w])
-    coef, *_ = np.linalg.lstsq(X, T, rcond=None)
-    r = T - X @ coef
-    sigma = float(np.sqrt(r @ r / max(r.size - X.shape[1], 1)))
-    # the residual is not white (dynamics): the standard error inflated as for ~20-sample correlation
-    se = sigma * float(np.sqrt(np.linalg.pinv(X.T @ X)[1, 1])) * math.sqrt(20.0)
-    out = (float(coef[1]), se)
+    out = _tension_coefficient(T, np.column_stack([np.ones(full.n), full.y, np.sign(w), w]), 1)
     full.meta["_tension_angle"] = out
     return out
 
@@ -561,8 +571,8 @@ def tension_step_n(ctx: Context) -> tuple[float, float] | None:
     and its standard error: |s| of the fit T = T0 + s sign(w) + c w over the samples where the joint moves
     (w = measured joint speed, Savitzky-Golay over 30 ms, moving = above 10 % of its 95th percentile). Friction at
     the hinge shows as s = tau_c / (2 d_mount); a dead band passes no torque and leaves s ~ 0. Computed on the
-    whole record (``meta['parent']``); the standard error is inflated x sqrt(20) for the residual's correlation.
-    None without a load cell."""
+    whole record (``meta['parent']``); the standard error is inflated for the residual's correlation
+    (:func:`_tension_coefficient`). None without a load cell."""
     ctx = ctx.meta.get("parent", ctx)
     T = ctx.signals.get("tension")
     if T is None:
@@ -572,12 +582,9 @@ def tension_step_n(ctx: Context) -> tuple[float, float] | None:
         return cached
     w = op.derivative(ctx.t, ctx.y, window_s=0.03, order=1)
     moving = np.abs(w) > 0.1 * np.percentile(np.abs(w), 95)
-    X = np.column_stack([np.ones(moving.sum()), np.sign(w[moving]), w[moving]])
-    coef, *_ = np.linalg.lstsq(X, T[moving], rcond=None)
-    r = T[moving] - X @ coef
-    sigma = float(np.sqrt(r @ r / max(r.size - X.shape[1], 1)))
-    se = sigma * float(np.sqrt(np.linalg.pinv(X.T @ X)[1, 1])) * math.sqrt(20.0)
-    out = (abs(float(coef[1])), se)
+    step, se = _tension_coefficient(T[moving], np.column_stack([np.ones(moving.sum()), np.sign(w[moving]),
+                                                                w[moving]]), 1)
+    out = (abs(step), se)
     ctx.meta["_tension_step"] = out
     return out
 

@@ -59,6 +59,13 @@ CLOSE_RIVAL_SHARE = 0.5
 NEAR_TIE = 2e-3
 
 
+def _cap_confidence(fe: FittedEffect, reason: str) -> None:
+    """A "high" confidence becomes "medium", with the reason in the effect's evidence (the first reason stays)."""
+    if fe.confidence == "high":
+        fe.confidence = "medium"
+        fe.evidence["confidence_capped"] = reason
+
+
 def _rmse(e: np.ndarray) -> float:
     return float(np.sqrt(np.mean(e**2))) if e.size else float("nan")
 
@@ -609,8 +616,8 @@ class Calibrator:
                 p_rival = block_test(tr[2].e_hold, best[2].e_hold, self.n_test_blocks, best[2].g_hold)
                 if p_rival > 0.05 or tr[2].rmse_hold <= best[2].rmse_hold * 1.01:
                     rivals.append(tr[0].name)
-            # told apart by the data, but by a margin a model error could make: a rival that alone removes most of
-            # what the best removes (on the independent bench, quadratic drag on a link moving in microstep jerks
+            # told apart by the data, but by a margin a model error could make: a rival that alone removes at least
+            # CLOSE_RIVAL_SHARE of what the best removes (on the independent bench, quadratic drag on a link moving in microstep jerks
             # is mostly linear in speed and viscous friction won, 2026-11-26)
             close = [tr[0].name for tr in trials if tr[0] is not best[0] and tr[8] and tr[0].name not in rivals
                      and tr[4] >= CLOSE_RIVAL_SHARE * best[4]]
@@ -794,14 +801,12 @@ class Calibrator:
             low = (fe.indistinguishable_from or problems or fe.evidence.get("relative_drop_full", 0) < self.min_relative_drop
                    or fe.evidence.get("p_value_full", 1) > self.alpha)
             fe.confidence = "low" if low else "high"
-            if eff.twins_outside and fe.confidence == "high":
-                fe.confidence = "medium"
-                fe.evidence["confidence_capped"] = f"outside the library, {eff.twins_outside}"
+            if eff.twins_outside:
+                _cap_confidence(fe, f"outside the library, {eff.twins_outside}")
             close = pending.get(eff.name, {}).get("close_rivals", [])
-            if close and fe.confidence == "high":
-                fe.confidence = "medium"
-                fe.evidence["confidence_capped"] = (f"{', '.join(close)} alone would remove at least "
-                                                    f"{100 * CLOSE_RIVAL_SHARE:.0f} % of what it removes")
+            if close:
+                _cap_confidence(fe, f"{', '.join(close)} alone would remove at least {100 * CLOSE_RIVAL_SHARE:.0f} % "
+                                    f"of what it removes")
             if problems:
                 fe.evidence["plausibility_on_full_data"] = problems
         self.coef_ = final.coef
@@ -813,9 +818,7 @@ class Calibrator:
             # On a bench simulator written apart from this engine (tests/mujoco_bench.py) every wrong name given
             # "high" confidence came with structure left (a slack cable named sensor_delay, 2026-11-26).
             for fe in self.added_effects_:
-                if fe.confidence == "high":
-                    fe.confidence = "medium"
-                    fe.evidence["confidence_capped"] = "structure left in the residual after the fit"
+                _cap_confidence(fe, "structure left in the residual after the fit")
         self.final_ = {"rmse_train": final.rmse_train, "rmse_holdout": final.rmse_hold,
                        "residual_white": self.diagnosis_after_.white}
         self.unexplained_structure_ = not self.diagnosis_after_.white
