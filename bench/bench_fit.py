@@ -34,6 +34,7 @@ SINDY_GRID = {
     "cable_compliance": ("stiffness_factor", (0.03, 0.1, 0.3)),
     "coulomb_friction": ("friction_torque_nm", (0.005, 0.02, 0.08)),
     "viscous_friction": ("damping_nm_s_rad", (0.005, 0.02, 0.08)),
+    "quadratic_drag": ("drag_nm_s2_rad2", (0.001, 0.003, 0.01)),
     "added_mass": ("added_inertia_kg_m2", (1e-4, 3e-4, 1e-3)),
     "backlash": ("gap_rad", (0.003, 0.01, 0.03)),
     "cable_slack": ("slack_rad", (0.0015, 0.005, 0.015)),

@@ -18,7 +18,7 @@ cable_compliance       ``joint_stiffness_nm_rad``;            the effect's own p
 backlash               ``dead_band_rad``                      ``gain x gap_rad``
 cable_slack            ``dead_band_rad``                      twice the fitted slack (lost pretension: re-tension)
 added_mass             ``added_inertia_kg_m2``                as fitted
-quadratic_drag         ``drag_coefficient_nm_s2_rad2``        the effect's physical value (b = (b/K) K)
+quadratic_drag         ``drag_coefficient_nm_s2_rad2``        the effect's physical value (b as fitted)
 effective_radius       ``spool_radius_ratio``                 1 + ``ratio_error``
 offset, sensor_delay,  ``sensor_offset_rad``,                 as fitted (recorded only)
 capstan_creep,         ``sensor_delay_s``,

@@ -388,6 +388,59 @@ class _E(Effect):
     pass
 
 
+def ringing_frequency_hz(ctx: Context) -> float | None:
+    """The link's resonance as the log shows it [Hz]: the peak of |H(f)| = |P_uy / P_uu| (Welch, 4096-sample
+    segments) from the rigid staircase u to the reading y, between 1 Hz and 1.5 x the design's resonance, refined
+    by a parabola through the three bins at the peak (in log |H|). The microstep staircase excites every frequency,
+    so the link rings at its own resonance after each step whatever the program. None on a short log or where the
+    peak stands less than 3x above the band's median (no resonance to see). Computed on the whole record
+    (``meta['parent']``)."""
+    from scipy import signal
+    ctx = ctx.meta.get("parent", ctx)
+    if "_ringing_hz" in ctx.meta:
+        return ctx.meta["_ringing_hz"]
+    out = None
+    d = _d(ctx)
+    fs = 1.0 / ctx.meta["dt_s"]
+    nper = 4096
+    if ctx.n >= 4 * nper:
+        u = ctx.signals["position"]
+        f, Puu = signal.welch(u, fs=fs, nperseg=nper, detrend="linear")
+        _, Puy = signal.csd(u, ctx.y, fs=fs, nperseg=nper, detrend="linear")
+        with np.errstate(divide="ignore", invalid="ignore"):
+            H = np.abs(Puy / Puu)
+        f_design = math.sqrt(d.stiffness_nm_rad / d.link_inertia_kg_m2) / (2 * math.pi)
+        band = np.flatnonzero((f > 1.0) & (f < min(1.5 * f_design, 0.4 * fs)) & np.isfinite(H))
+        if band.size > 4:
+            i = band[np.argmax(H[band])]
+            if H[i] > 3.0 * np.median(H[band]) and band[0] < i < band[-1]:
+                a, b, c = np.log(H[i - 1: i + 2])
+                shift = 0.5 * (a - c) / (a - 2 * b + c) if a - 2 * b + c < 0 else 0.0
+                out = float(f[i] + shift * (f[1] - f[0]))
+    ctx.meta["_ringing_hz"] = out
+    return out
+
+
+class _ResonanceEffect(Effect):
+    """An effect that moves the link's resonance (its nonlinear parameter sets it): the grid adds dense values
+    around the resonance the log shows (:func:`ringing_frequency_hz`), +-6 % in frequency. A lightly damped link
+    (Q ~ 250 at 5 x the fin's added mass) keeps ringing for seconds after each microstep, so the misfit has a basin
+    about 1 % wide in frequency: the log-spaced grid (50 % steps) falls beside it and the refinement does not
+    climb in."""
+
+    #: (ctx, f_hz) -> the nonlinear parameter's value that puts the link's resonance at f_hz (None: none does)
+    at_frequency = None
+
+    def grid(self, param, ctx):
+        g = param.grid_values()
+        f = ringing_frequency_hz(ctx)
+        if f is None or self.at_frequency is None:
+            return g
+        dense = [self.at_frequency(ctx, f * (1.0 + k)) for k in np.linspace(-0.06, 0.06, 25)]
+        dense = [v for v in dense if v is not None and param.lo <= v <= param.hi]
+        return np.unique(np.r_[g, dense])
+
+
 class _ThresholdEffect(Effect):
     """An effect whose nonlinear parameter is a threshold on ``motor_acceleration``: the model changes only when
     the threshold crosses a peak, so the grid is the midpoints between the largest distinct peaks."""
@@ -500,7 +553,10 @@ def _cable_compliance() -> Effect:
 
     def plaus(v, ctx):
         return [] if v["stiffness_factor"] < 0.9 else ["stiffness within 10 % of the design: no compliance effect"]
-    return _E(name="cable_compliance",
+    def at_f(ctx, f_hz):
+        d = _d(ctx)
+        return (2 * math.pi * f_hz) ** 2 * d.link_inertia_kg_m2 / d.stiffness_nm_rad
+    return _ResonanceEffect(name="cable_compliance", at_frequency=at_f,
               meaning="The cable (and its anchors, guides, printed sector) is softer than E A / L of the design: the "
                       "joint's own inertia and bearing damping stretch it.",
               fingerprint="a lag growing with frequency and ringing after fast moves (resonance sqrt(K/J) drops): "
@@ -516,7 +572,11 @@ def _added_mass() -> Effect:
         d = _d(ctx)
         K = d.stiffness_nm_rad
         return _dyn(ctx, d.bearing_damping_nm_s_rad / K, (d.link_inertia_kg_m2 + nl["added_inertia_kg_m2"]) / K)
-    return _E(name="added_mass",
+    def at_f(ctx, f_hz):
+        d = _d(ctx)
+        extra = d.stiffness_nm_rad / (2 * math.pi * f_hz) ** 2 - d.link_inertia_kg_m2
+        return extra if extra > 0 else None
+    return _ResonanceEffect(name="added_mass", at_frequency=at_f,
               meaning="Inertia beyond the bare link: the fin, a payload, or the water it accelerates (added mass).",
               fingerprint="a residual proportional to -acceleration at low frequency, a resonance sqrt(K/J) moving "
                           "down: residual against acceleration",
@@ -549,20 +609,22 @@ def _viscous() -> Effect:
 def _quadratic_drag() -> Effect:
     def cols(ctx, nl):
         d = _d(ctx)
-        v = ctx.signals["velocity"]
-        K = d.stiffness_nm_rad
-        # the drag torque reaches the joint angle through the bench link's own dynamics
-        return op.second_order(ctx.t, -v * np.abs(v), d.bearing_damping_nm_s_rad / K, d.link_inertia_kg_m2 / K)
+        # the drag acts on the link's own speed, its ringing after each microstep included, and damps that ringing
+        # as it grows: a link that moves in jerks sees b w|w| partly linear in its mean speed, so the drag is
+        # simulated in the drive (the same integrator with and without it, so the column is the drag alone)
+        run = lambda b: op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad,  # noqa: E731
+                                          d.link_inertia_kg_m2, d.bearing_damping_nm_s_rad, 0.0, drag=b)
+        return run(nl["drag_nm_s2_rad2"]) - run(0.0)
 
     def phys(v, s, ctx):
-        K = _d(ctx).stiffness_nm_rad
-        return {"drag_coefficient_nm_s2_rad2": (v["drag_over_stiffness_s2"] * K, s["drag_over_stiffness_s2"] * K,
-                                                "N m s^2/rad^2")}
+        return {"drag_coefficient_nm_s2_rad2": (v["drag_nm_s2_rad2"], s["drag_nm_s2_rad2"], "N m s^2/rad^2")}
     return _E(name="quadratic_drag",
               meaning="Hydrodynamic (form) drag of the fin and link, tau = b omega |omega|, stretching the cable.",
               fingerprint="a residual proportional to -velocity |velocity|: a parabola in residual vs velocity, "
                           "flat at low speed",
-              linear=(Param("drag_over_stiffness_s2", "s^2/rad", 0.0, 1.0, "b / K"),),
+              linear=(_unit_coef(),),
+              nonlinear=(Param("drag_nm_s2_rad2", "N m s^2/rad^2", 1e-6, 1.0, "form-drag coefficient b",
+                               scale="log", grid=19),),
               fingerprint_axis="velocity", columns_fn=cols, physical_fn=phys)
 
 
