@@ -26,7 +26,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from swiftfin.calibration.engine import Calibrator, _single_thread_blas  # noqa: E402
-from swiftfin.calibration.joint import EQUIVALENT, FAMILY, joint_context, joint_design  # noqa: E402
+from swiftfin.calibration.bench import BARE_ARM  # noqa: E402
+from swiftfin.calibration.joint import EQUIVALENT, FAMILY, joint_context  # noqa: E402
 from swiftfin.calibration.synth import EFFECT_DEFAULTS, LIBRARY_EFFECTS, simulate_joint  # noqa: E402
 from swiftfin.layout.design import load_design  # noqa: E402
 
@@ -35,7 +36,7 @@ SINDY_GRID = {
     "coulomb_friction": ("friction_torque_nm", (0.005, 0.02, 0.08)),
     "viscous_friction": ("damping_nm_s_rad", (0.005, 0.02, 0.08)),
     "quadratic_drag": ("drag_nm_s2_rad2", (0.001, 0.003, 0.01)),
-    "added_mass": ("added_inertia_kg_m2", (1e-4, 3e-4, 1e-3)),
+    "added_mass": ("inertia_ratio", (17.0, 51.0, 170.0)),
     "backlash": ("gap_rad", (0.003, 0.01, 0.03)),
     "cable_slack": ("slack_rad", (0.0015, 0.005, 0.015)),
     "sensor_delay": ("delay_s", (0.003, 0.01, 0.03)),
@@ -135,7 +136,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="one seed, 200k-sample speed log")
     args = ap.parse_args()
-    d = joint_design(load_design(ROOT / "swiftfin.toml"))
+    d = BARE_ARM.design(load_design(ROOT / "swiftfin.toml"))     # the bare printed arm, as in earlier runs
     speed(d, 200_000 if args.quick else 1_000_000)
     seeds = [0] if args.quick else [0, 1, 2]
     thresholds = (0.02, 0.05, 0.1, 0.2, 0.5)

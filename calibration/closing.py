@@ -17,7 +17,7 @@ cable_compliance       ``joint_stiffness_nm_rad``;            the effect's own p
                        design ``cable.youngs_modulus_gpa``
 backlash               ``dead_band_rad``                      ``gain x gap_rad``
 cable_slack            ``dead_band_rad``                      twice the fitted slack (lost pretension: re-tension)
-added_mass             ``added_inertia_kg_m2``                as fitted
+added_mass             ``added_inertia_kg_m2``                the effect's physical value (signed: J - J_prior)
 quadratic_drag         ``drag_coefficient_nm_s2_rad2``        the effect's physical value (b as fitted)
 effective_radius       ``spool_radius_ratio``                 1 + ``ratio_error``
 offset, sensor_delay,  ``sensor_offset_rad``,                 as fitted (recorded only)
@@ -69,7 +69,7 @@ MAPPING: dict[str, tuple[tuple[str, object], ...]] = {
                          ("cable.youngs_modulus_gpa", lambda e: _phys(e, "effective_modulus_gpa"))),
     "backlash": (("dead_band_rad", lambda e: _gain_times(e, "gap_rad")),),
     "cable_slack": (("dead_band_rad", lambda e: _phys(e, "dead_band_rad")),),
-    "added_mass": (("added_inertia_kg_m2", lambda e: _p(e, "added_inertia_kg_m2")),),
+    "added_mass": (("added_inertia_kg_m2", lambda e: _phys(e, "added_inertia_kg_m2")),),
     "quadratic_drag": (("drag_coefficient_nm_s2_rad2", lambda e: _phys(e, "drag_coefficient_nm_s2_rad2")),),
     "effective_radius": (("spool_radius_ratio", lambda e: (1.0 + _p(e, "ratio_error")[0], _p(e, "ratio_error")[1])),),
     "offset": (("sensor_offset_rad", lambda e: _p(e, "offset_rad")),),

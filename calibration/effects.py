@@ -176,10 +176,12 @@ _DEADZONE = None
 
 
 def deadzone_drive(t: np.ndarray, u: np.ndarray, stiffness: float, inertia: float, damping: float,
-                   half_width: float, substeps: int = 5, drag: float = 0.0) -> np.ndarray:
+                   half_width: float, substeps: int = 5, drag: float = 0.0, friction: float = 0.0) -> np.ndarray:
     """A link of ``inertia`` and ``damping`` driven toward ``u`` through a spring of ``stiffness`` with a dead band
-    of +- ``half_width`` (no force inside it: a slack cable pair) and a form drag ``drag`` w|w| (implicit in w, as
-    the damping), starting at rest at u[0]: semi-implicit Euler
+    of +- ``half_width`` (no force inside it: a slack cable pair), a form drag ``drag`` w|w| (implicit in w, as
+    the damping) and a dry friction torque ``friction`` (on the velocity: a step whose friction impulse would
+    reverse w ends stuck at w = 0, so the link sticks while the spring's torque is below it), starting at rest at
+    u[0]: semi-implicit Euler
     at ``substeps`` steps per sample, u held over each sample, each sample's reading the mean of the link's angle
     at its start and end (as the base model's ramp between samples places the command half a sample early);
     compiled with numba on first use."""
@@ -188,7 +190,7 @@ def deadzone_drive(t: np.ndarray, u: np.ndarray, stiffness: float, inertia: floa
         from numba import njit
 
         @njit(cache=True, nogil=True)
-        def run(u, h, n_sub, K, J, c, s, b):
+        def run(u, h, n_sub, K, J, c, s, b, tc):
             out = np.empty(u.size)
             th = u[0]
             w = 0.0
@@ -197,14 +199,18 @@ def deadzone_drive(t: np.ndarray, u: np.ndarray, stiffness: float, inertia: floa
                 for _ in range(n_sub):
                     e = u[i] - th
                     f = K * (e - s) if e > s else (K * (e + s) if e < -s else 0.0)
-                    w = (w + h * f / J) / (1.0 + h * (c + b * abs(w)) / J)
+                    den = 1.0 + h * (c + b * abs(w)) / J
+                    w = (w + h * f / J) / den
+                    if tc > 0.0:
+                        dw = h * tc / J / den
+                        w = w - dw if w > dw else (w + dw if w < -dw else 0.0)
                     th += h * w
                 out[i] = 0.5 * (before + th)
             return out
         _DEADZONE = run
     h = uniform_dt(t) / substeps
     return _DEADZONE(np.ascontiguousarray(u, dtype=np.float64), h, substeps, float(stiffness), float(inertia),
-                     float(damping), float(half_width), float(drag))
+                     float(damping), float(half_width), float(drag), float(friction))
 
 
 _STEPPER = None

@@ -55,6 +55,7 @@ from pathlib import Path
 import numpy as np
 
 from swiftfin.layout.geometry import spool_dims
+from swiftfin.layout.loads import hinge_inertia
 from swiftfin.layout.servo import (cable_route_length_m, cable_side_stiffness_n_m, drive_stiffness_nm_rad, in_series,
                                    joint_stiffness_nm_rad)
 from swiftfin.calibration import effects as op
@@ -153,7 +154,10 @@ def slip_signal(t: np.ndarray, acceleration: np.ndarray, threshold: float, at: n
 COLUMNS = (
     Column("time_s", "s", "time", doc="time"),
     Column("motor_angle_rad", "rad", "angle", 4 * math.pi, "commanded motor angle"),
-    Column("joint_angle_rad", "rad", "angle", math.pi / 2, "joint angle"),
+    # a full turn, not the fish's quarter: a bench link has no hard stops, and a motor that loses steps walks it
+    # off (18 slips took the independent bench's link to -1.67 rad); degrees within a turn are caught by the swing
+    # against the capstan's (57.3 x, check_excitation)
+    Column("joint_angle_rad", "rad", "angle", 2 * math.pi, "joint angle"),
     Column("cable_tension_n", "N", "value", 5000.0, "tension of one cable side (inline load cell)", optional=True),
 )
 
@@ -176,6 +180,7 @@ class JointDesign:
     youngs_modulus_gpa: float
     link_inertia_kg_m2: float = BENCH_LINK_INERTIA_KG_M2
     bearing_damping_nm_s_rad: float = BENCH_BEARING_DAMPING_NM_S_RAD
+    link_inertia_source: str = "the bare bench arm (BENCH_LINK_INERTIA_KG_M2)"
     motor_stiffness_nm_rad: float = math.inf    # the stepper held at its step, seen at the joint
     holding_torque_nm: float = 0.0              # the catalogue's, at the motor (0: unknown)
     rotor_inertia_kg_m2: float = 0.0            # the catalogue's, at the motor
@@ -197,12 +202,16 @@ class JointDesign:
         return SLIP_FULL_STEPS * self.full_step_rad * self.ratio
 
 
-def joint_design(p: Params, joint: int | None = None) -> JointDesign:
-    """Design constants of joint ``joint`` (0-based; default the last, the caudal joint with the longest cable)."""
+def joint_design(p: Params, joint: int | None = None, medium: str = "air") -> JointDesign:
+    """Design constants of joint ``joint`` (0-based; default the last, the caudal joint with the longest cable).
+    The link on the hinge is the design's own (the links behind the joint and the fin, held straight; in water with
+    their added mass and the water they carry: :func:`swiftfin.layout.loads.hinge_inertia`): the prior of the base
+    model, which a bench file replaces (:mod:`swiftfin.calibration.bench`)."""
     n = p.joints.count
     j = n - 1 if joint is None else joint
     if not 0 <= j < n:
         raise UserError(f"--joint {j + 1}: the design has joints 1..{n}")
+    hi = hinge_inertia(p, j, medium)
     r = spool_dims(p).drum_radius_mm / 1000.0
     m = p.joints.tendon_moment_arm_mm / 1000.0
     full = math.radians(p.motor.full_step_deg)
@@ -211,7 +220,8 @@ def joint_design(p: Params, joint: int | None = None) -> JointDesign:
     return JointDesign(j, r, m, r / m, full, q, joint_resolution_rad(full, p.motor.microsteps, m, r), L,
                        cable_side_stiffness_n_m(p, L), drive_stiffness_nm_rad(p, j + 1), p.cable.pretension_n,
                        p.cable.youngs_modulus_gpa, motor_stiffness_nm_rad=joint_stiffness_nm_rad(p),
-                       holding_torque_nm=p.motor.holding_torque_nm, rotor_inertia_kg_m2=p.motor.rotor_inertia_kg_m2)
+                       holding_torque_nm=p.motor.holding_torque_nm, rotor_inertia_kg_m2=p.motor.rotor_inertia_kg_m2,
+                       link_inertia_kg_m2=hi.total_kg_m2, link_inertia_source=hi.describe(j + 1))
 
 
 def rigid_joint_angle(motor_angle_rad: np.ndarray, d: JointDesign) -> np.ndarray:
@@ -245,10 +255,14 @@ def joint_context(t: np.ndarray, motor: np.ndarray, joint: np.ndarray, d: JointD
         signals["tension"] = np.asarray(tension, float)
     # the base model is the design's drive: the rigid capstan's staircase through the drive stiffness and the link's
     # inertia and damping (its ringing after each microstep is in every log); "position" keeps the staircase
+    terms = (f"the link on the hinge: {d.link_inertia_source}; drive stiffness {d.stiffness_nm_rad:.3g} N m/rad, "
+             f"bearing damping {d.bearing_damping_nm_s_rad:.3g} N m s/rad (resonance "
+             f"{math.sqrt(K / d.link_inertia_kg_m2) / (2 * math.pi):.3g} Hz)",)
+    if lag:
+        terms += (f"columns aligned within a sample: the joint reading {1e3 * lag:+.3f} ms behind the motor column "
+                  f"(identified)",)
     return Context(t, y, motion, np.zeros((t.size, 0)), signals, source,
-                   meta={"design": d, "dt_s": dt, "column_lag_s": lag,
-                         "base_terms": (f"columns aligned within a sample: the joint reading {1e3 * lag:+.3f} ms "
-                                        f"behind the motor column (identified)",) if lag else ()})
+                   meta={"design": d, "dt_s": dt, "column_lag_s": lag, "base_terms": terms})
 
 
 #: Where within a sample the logged command acts, relative to the joint reading of the same row, in sample periods
@@ -360,9 +374,7 @@ def load(path: str | Path, design: Params, joint: int | None = None, notes: list
     log = read_log(path, COLUMNS, family="joint")
     if notes is not None:
         notes.extend(log.notes)
-    d = joint_design(design, joint)
-    if bench is not None:
-        d = bench.on(d)
+    d = joint_design(design, joint) if bench is None else bench.design(design, joint)
     ctx = joint_context(log["time_s"], log["motor_angle_rad"], log["joint_angle_rad"], d, str(path),
                         tension=log.columns.get("cable_tension_n"))
     check_excitation(ctx, str(path))
@@ -568,22 +580,37 @@ def _cable_compliance() -> Effect:
 
 
 def _added_mass() -> Effect:
+    """The link's inertia about the hinge differs from the base model's prior (the design's link, or the bench
+    file's): identified as the ratio to the prior, both ways (issue 14 item 1: a bench holding a lighter link than
+    the design's tail is as common as the water's added mass on a heavier one)."""
     def cols(ctx, nl):
         d = _d(ctx)
         K = d.stiffness_nm_rad
-        return _dyn(ctx, d.bearing_damping_nm_s_rad / K, (d.link_inertia_kg_m2 + nl["added_inertia_kg_m2"]) / K)
+        return _dyn(ctx, d.bearing_damping_nm_s_rad / K, d.link_inertia_kg_m2 * nl["inertia_ratio"] / K)
+
     def at_f(ctx, f_hz):
         d = _d(ctx)
-        extra = d.stiffness_nm_rad / (2 * math.pi * f_hz) ** 2 - d.link_inertia_kg_m2
-        return extra if extra > 0 else None
+        return d.stiffness_nm_rad / (2 * math.pi * f_hz) ** 2 / d.link_inertia_kg_m2
+
+    def phys(v, s, ctx):
+        J0 = _d(ctx).link_inertia_kg_m2
+        r, sr = v["inertia_ratio"], s["inertia_ratio"]
+        return {"link_inertia_kg_m2": (r * J0, sr * J0, "kg m^2"),
+                "added_inertia_kg_m2": ((r - 1.0) * J0, sr * J0, "kg m^2")}
+
+    def plaus(v, ctx):
+        return ([] if abs(v["inertia_ratio"] - 1.0) >= 0.1
+                else ["inertia within 10 % of the prior: no inertia effect"])
     return _ResonanceEffect(name="added_mass", at_frequency=at_f,
-              meaning="Inertia beyond the bare link: the fin, a payload, or the water it accelerates (added mass).",
-              fingerprint="a residual proportional to -acceleration at low frequency, a resonance sqrt(K/J) moving "
-                          "down: residual against acceleration",
+              meaning="The inertia about the hinge differs from the base model's (the design's link, or the bench "
+                      "file's): the water the link accelerates (added mass), a payload, or a link heavier or lighter "
+                      "than assumed.",
+              fingerprint="a residual proportional to -acceleration at low frequency, the resonance sqrt(K/J) "
+                          "moving (down for a heavier link): residual against acceleration",
               linear=(_unit_coef(),),
-              nonlinear=(Param("added_inertia_kg_m2", "kg m^2", 1e-7, 1e-2, "extra inertia about the hinge",
-                               scale="log", grid=30),),
-              fingerprint_axis="acceleration", columns_fn=cols)
+              nonlinear=(Param("inertia_ratio", "-", 1e-3, 1e4, "inertia about the hinge / the prior's",
+                               scale="log", grid=40),),
+              fingerprint_axis="acceleration", columns_fn=cols, physical_fn=phys, plausible_fn=plaus)
 
 
 def _viscous() -> Effect:
@@ -691,13 +718,25 @@ def _coulomb() -> Effect:
     def phys(v, s, ctx):
         K = _d(ctx).stiffness_nm_rad
         return {"stuck_band_rad": (2 * v["friction_torque_nm"] / K, 2 * s["friction_torque_nm"] / K, "rad")}
-    return _play_effect(
+
+    def cols(ctx, nl):
+        # the friction acts on the link in the drive: it holds the link until the cable has wound up tau_c / K, and
+        # it damps the link's ringing after each microstep (a play operator on the staircase, then the linear
+        # drive, left that ringing undamped: on the design's own link, 35 x the bare arm's inertia and ringing at
+        # 16 Hz, friction was named viscous)
+        d = _d(ctx)
+        run = lambda tc: op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad,  # noqa: E731
+                                           d.link_inertia_kg_m2, d.bearing_damping_nm_s_rad, 0.0, friction=tc)
+        return run(nl["friction_torque_nm"]) - run(0.0)
+    e = _play_effect(
         "coulomb_friction",
         "Dry friction at the hinge (pin loaded by the cable pretension): a constant torque against the motion, "
         "stretching the cable; the joint sticks at each reversal until the cable has wound up 2 tau_c / K.",
         "a step in the residual at zero velocity (residual = -tau_c/K sign(velocity)), hysteresis after each "
         "reversal: residual against velocity",
         "friction_torque_nm", "N m", 1e-4, 0.5, lambda ctx, x: x / _d(ctx).stiffness_nm_rad, phys, "friction")
+    e.columns_fn = cols
+    return e
 
 
 def _backlash() -> Effect:

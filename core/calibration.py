@@ -61,9 +61,10 @@ JOINT_QUANTITIES: dict[str, Quantity] = {
                                        "cables in series), the MJCF position servo's kp"),
     "dead_band_rad": Quantity("rad", 0.0, False, "recorded: slack in the drive; no simulator joint has a dead band "
                                                  "(re-tension the cable instead)"),
-    "added_inertia_kg_m2": Quantity("kg m^2", 0.0, False,
-                                    "recorded: inertia beyond the bench model's; the simulators take inertia from the "
-                                    "mass properties and added mass from their fluid model"),
+    "added_inertia_kg_m2": Quantity("kg m^2", None, False,
+                                    "recorded: inertia about the hinge beyond the bench model's (negative: a lighter "
+                                    "link); the simulators take inertia from the mass properties and added mass "
+                                    "from their fluid model"),
     "drag_coefficient_nm_s2_rad2": Quantity("N m s^2/rad^2", 0.0, False,
                                             "recorded: the simulators' fluid model gives the drag"),
     "spool_radius_ratio": Quantity("-", 0.0, True, "recorded: effective / design spool-to-arm ratio (a cable riding "

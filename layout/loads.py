@@ -144,6 +144,56 @@ def shell_link_masses(p: Params, n_strips: int = 120) -> tuple[LinkMass, ...]:
 
 
 @dataclass(frozen=True)
+class HingeInertia:
+    """Yaw inertia about a joint's hinge of everything behind it, held straight (SI), by source."""
+    links_kg_m2: float            # the printed links and the fin (:func:`shell_link_masses`)
+    added_mass_kg_m2: float       # the water the body and fin accelerate (strip theory, as :func:`joint_loads`)
+    entrained_kg_m2: float        # the water inside the flooded shells, which moves with them
+    medium: str
+
+    @property
+    def total_kg_m2(self) -> float:
+        return self.links_kg_m2 + (self.added_mass_kg_m2 + self.entrained_kg_m2 if self.medium == "water" else 0.0)
+
+    def describe(self, joint: int) -> str:
+        text = (f"{self.total_kg_m2:.3g} kg m^2 about hinge {joint}: the design's links behind it with the fin "
+                f"({self.links_kg_m2:.3g}, thin-shell estimate without the joint hardware)")
+        if self.medium == "water":
+            text += (f", in water with their added mass ({self.added_mass_kg_m2:.3g}, strip theory) and the water "
+                     f"inside the flooded shells ({self.entrained_kg_m2:.3g})")
+        return text + ", held straight"
+
+
+def hinge_inertia(p: Params, joint: int, medium: str = "air", n_strips: int = 200) -> HingeInertia:
+    """The inertia a bench holding the design's own tail sees about hinge ``joint`` (0-based) with the joints behind
+    it locked: the links (:func:`shell_link_masses`, parallel axes to the hinge) and, in water, the added mass of
+    the body strips (rho pi (h/2)^2 per unit length, x ``hydro.body_added_mass_coefficient``) and of the fin
+    (rho pi (b/2)^2 per unit chord at its centroid, x ``hydro.fin_added_mass_coefficient``), the same strip model
+    :func:`joint_loads` uses, and the water inside the link shells behind the hinge (the tail segments flood),
+    each times the square of its lever arm."""
+    if medium not in ("air", "water"):
+        raise ValueError(f"medium {medium!r}: expected 'air' or 'water'")
+    xj = joint_stations_mm(p)[joint] * MM
+    links = sum(lm.izz_com_kg_m2 + lm.mass_kg * (lm.com_station_m - xj) ** 2
+                for lm in shell_link_masses(p)[joint:])
+    rho = p.environment.water_density_kg_m3
+    hy = p.hydro
+    edges = np.linspace(xj, hull_end_mm(p) * MM, n_strips + 1)
+    xs = 0.5 * (edges[1:] + edges[:-1])
+    dx = np.diff(edges)
+    h = 2.0 * np.asarray(half_height_mm(p, xs / MM)) * MM
+    added = float(np.sum(hy.body_added_mass_coefficient * rho * np.pi * (h / 2) ** 2 * dx * (xs - xj) ** 2))
+    fin = fin_geometry(p)
+    added += (hy.fin_added_mass_coefficient * rho * np.pi * (fin.span_m / 2) ** 2 * fin.chord_m
+              * (fin.centroid_station_m - xj) ** 2)
+    t = p.hull.wall_thickness_mm * MM
+    a = np.maximum(np.asarray(naca_half_width_mm(p, xs / MM)) * MM - t, 0.0)
+    b = np.maximum(np.asarray(half_height_mm(p, xs / MM)) * MM - t, 0.0)
+    inside = float(np.sum(rho * np.pi * a * b * dx * ((xs - xj) ** 2 + a ** 2 / 4)))
+    return HingeInertia(float(links), added, inside, medium)
+
+
+@dataclass(frozen=True)
 class JointLoads:
     """Joint kinematics and torques over one period at the design point. Arrays are (n_samples, n_joints)."""
     t_s: np.ndarray

@@ -274,9 +274,14 @@ def run_case(d: BenchDesign, case: Case, folder, design_file: str, duration_s: f
     csv = folder / "log.csv"
     write_log(csv, {"time_s": log.t, "motor_angle_rad": log.motor_angle_rad, "joint_angle_rad": log.joint_angle_rad,
                     "cable_tension_n": log.cable_tension_n})
+    # this bench holds its own light arm, not the design's tail: a bench file says so, as a user's would
+    bench = folder / "bench.toml"
+    bench.write_text(f"link_inertia_kg_m2 = {d.link_inertia_kg_m2!r}\n"
+                     f"bearing_damping_nm_s_rad = {d.bearing_damping_nm_s_rad!r}\n")
     err = io.StringIO()
     with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(err):
-        rc = main(["fit", "joint", str(csv), "--design", design_file, "--out", str(folder / "fit"), "--no-plots"])
+        rc = main(["fit", "joint", str(csv), "--design", design_file, "--bench", str(bench), "--out",
+                   str(folder / "fit"), "--no-plots"])
     if rc != 0:
         return {"case": case, "refused": err.getvalue().strip().splitlines()[-1:], "named": [], "first": None,
                 "confidence": None, "flagged": False, "slips": log.slips}

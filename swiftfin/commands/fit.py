@@ -58,8 +58,9 @@ def configure(ap) -> None:
                          "(default: the family's; joint, drive 0.10; body 0.03)")
     ap.add_argument("--no-plots", action="store_true", help="write the JSON and markdown only")
     ap.add_argument("--bench", metavar="FILE", default=None,
-                    help="joint family: bench file, the link on the hinge and its bearing (link_inertia_kg_m2, "
-                         "bearing_damping_nm_s_rad; default a 10 g printed arm in air)")
+                    help="joint family: bench file, the link on the hinge and its bearing (medium = \"air\" | "
+                         "\"water\", link_inertia_kg_m2, bearing_damping_nm_s_rad; default the design's own link "
+                         "in air)")
     ap.add_argument("--mjcf", metavar="FILE", default=None,
                     help="joint family: an exported MJCF (a build's robot/swiftfin.xml); the measured command is "
                          "replayed in MuJoCo through its joint, as exported and as calibrated, on the bench's "

@@ -29,8 +29,9 @@ def configure(ap) -> None:
     ap.add_argument("--no-load-cell", action="store_true",
                     help="leave out the cable_tension_n column (a bench without a load cell)")
     ap.add_argument("--bench", metavar="FILE", default=None,
-                    help="bench file: the link on the hinge and its bearing (link_inertia_kg_m2, "
-                         "bearing_damping_nm_s_rad; default a 10 g printed arm in air)")
+                    help="bench file: the link on the hinge and its bearing (medium = \"air\" | "
+                         "\"water\", link_inertia_kg_m2, bearing_damping_nm_s_rad; default the design's own link "
+                         "in air)")
     ap.set_defaults(func=run)
 
 
@@ -55,9 +56,9 @@ def run(args) -> int:
         from swiftfin.calibration.bench import load_bench
         bench = load_bench(args.bench)
     check_output_file(args.out)           # before simulating: a folder or an unwritable place fails now
-    d = joint_design(load_design(args.design), None if args.joint is None else args.joint - 1)
-    if bench is not None:
-        d = bench.on(d)
+    joint = None if args.joint is None else args.joint - 1
+    design = load_design(args.design)
+    d = joint_design(design, joint) if bench is None else bench.design(design, joint)
     log = simulate_joint(d, effects, duration_s=args.duration, rate_hz=args.rate, noise_rad=noise, seed=args.seed)
     cols = {"time_s": log.t, "motor_angle_rad": log.motor_angle_rad, "joint_angle_rad": log.joint_angle_rad}
     if not args.no_load_cell:
