@@ -400,6 +400,19 @@ class _E(Effect):
     pass
 
 
+def _free_drive(ctx: Context) -> np.ndarray:
+    """The drive without dry friction, drag or dead band (:func:`op.deadzone_drive` at zero), the reference the
+    effects simulated in the drive subtract: computed once per context (a window has its own time array)."""
+    cached = ctx.meta.get("_free_drive")
+    if cached is not None and cached[0] is ctx.t:
+        return cached[1]
+    d = _d(ctx)
+    out = op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad, d.link_inertia_kg_m2,
+                            d.bearing_damping_nm_s_rad, 0.0)
+    ctx.meta["_free_drive"] = (ctx.t, out)
+    return out
+
+
 def ringing_frequency_hz(ctx: Context) -> float | None:
     """The link's resonance as the log shows it [Hz]: the peak of |H(f)| = |P_uy / P_uu| (Welch, 4096-sample
     segments) from the rigid staircase u to the reading y, between 1 Hz and 1.5 x the design's resonance, refined
@@ -639,9 +652,8 @@ def _quadratic_drag() -> Effect:
         # the drag acts on the link's own speed, its ringing after each microstep included, and damps that ringing
         # as it grows: a link that moves in jerks sees b w|w| partly linear in its mean speed, so the drag is
         # simulated in the drive (the same integrator with and without it, so the column is the drag alone)
-        run = lambda b: op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad,  # noqa: E731
-                                          d.link_inertia_kg_m2, d.bearing_damping_nm_s_rad, 0.0, drag=b)
-        return run(nl["drag_nm_s2_rad2"]) - run(0.0)
+        return op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad, d.link_inertia_kg_m2,
+                                 d.bearing_damping_nm_s_rad, 0.0, drag=nl["drag_nm_s2_rad2"]) - _free_drive(ctx)
 
     def phys(v, s, ctx):
         return {"drag_coefficient_nm_s2_rad2": (v["drag_nm_s2_rad2"], s["drag_nm_s2_rad2"], "N m s^2/rad^2")}
@@ -725,9 +737,8 @@ def _coulomb() -> Effect:
         # drive, left that ringing undamped: on the design's own link, 35 x the bare arm's inertia and ringing at
         # 16 Hz, friction was named viscous)
         d = _d(ctx)
-        run = lambda tc: op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad,  # noqa: E731
-                                           d.link_inertia_kg_m2, d.bearing_damping_nm_s_rad, 0.0, friction=tc)
-        return run(nl["friction_torque_nm"]) - run(0.0)
+        return op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad, d.link_inertia_kg_m2,
+                                 d.bearing_damping_nm_s_rad, 0.0, friction=nl["friction_torque_nm"]) - _free_drive(ctx)
     e = _play_effect(
         "coulomb_friction",
         "Dry friction at the hinge (pin loaded by the cable pretension): a constant torque against the motion, "

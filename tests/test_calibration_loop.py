@@ -168,6 +168,9 @@ def test_a_missing_calibration_file_is_refused_before_a_build(tmp_path, capsys, 
     ("link_inertia = 1e-5\n", ["link_inertia = 1e-05", "did you mean 'link_inertia_kg_m2'"]),
     ("bearing_damping_nm_s_rad = \"low\"\n", ["bearing_damping_nm_s_rad = 'low'"]),
     ("link_inertia_kg_m2 = \n", ["not valid TOML"]),
+    ("medium = \"oil\"\n", ["medium = 'oil'", 'expected "air" or "water"']),
+    ("medium = 1\n", ["medium = 1", 'expected "air" or "water"']),
+    ("mediun = \"water\"\n", ["did you mean 'medium'"]),
 ])
 def test_a_bad_bench_file_is_refused_by_synth_and_fit(tmp_path, text, expected, capsys):
     bench = tmp_path / "bench.toml"

@@ -155,3 +155,28 @@ def test_link_masses_override_is_used_and_checked():
     assert np.abs(b).max() > 5 * np.abs(a).max()
     with pytest.raises(ValueError, match="3 links"):
         ld.joint_loads(p, link_masses=heavy[:3])
+
+
+def test_hinge_inertia_by_hand_and_in_water():
+    """The joint fit's prior for the link on a hinge: in air the links behind it by the parallel-axis theorem from
+    shell_link_masses; in water, added on top, the fin's strip added mass rho pi (b/2)^2 c at its centroid's lever
+    (closed form, by hand here) plus the body strips' and the water inside the shells; the water terms only in
+    water."""
+    from swiftfin.core.schema import Params
+    from swiftfin.layout.geometry import joint_stations_mm
+    from swiftfin.layout.loads import fin_geometry, hinge_inertia, shell_link_masses
+    p = Params()
+    j = p.joints.count - 1
+    x = joint_stations_mm(p)[j] / 1000.0
+    lm = shell_link_masses(p)[j]
+    air = hinge_inertia(p, j)
+    assert air.total_kg_m2 == pytest.approx(lm.izz_com_kg_m2 + lm.mass_kg * (lm.com_station_m - x) ** 2, rel=1e-12)
+    water = hinge_inertia(p, j, "water")
+    fin = fin_geometry(p)
+    by_hand = 1000.0 * math.pi * (fin.span_m / 2) ** 2 * fin.chord_m * (fin.centroid_station_m - x) ** 2
+    assert p.environment.water_density_kg_m3 == pytest.approx(1000.0, rel=0.03)
+    assert 0.97 * by_hand < water.added_mass_kg_m2 < 1.3 * by_hand        # the fin by hand, plus the body strips
+    assert water.total_kg_m2 == pytest.approx(air.links_kg_m2 + water.added_mass_kg_m2 + water.entrained_kg_m2)
+    assert water.total_kg_m2 > 30 * air.total_kg_m2
+    with pytest.raises(ValueError, match="medium 'oil'"):
+        hinge_inertia(p, j, "oil")

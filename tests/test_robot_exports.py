@@ -275,3 +275,30 @@ def test_collision_shapes_fit_the_parts(built, capsys):
         assert vc / vs < 4.0, name
     if "fin_plate" not in labels:                       # the real design (the mini one has a stand-in plate)
         assert rows[-1][2] / rows[-1][3] < 3.0
+
+
+@pytest.mark.slow
+def test_the_joint_fits_link_prior_agrees_with_the_built_links(default_robot, default_params):
+    """The joint fit's prior for the link on hinge j (layout.loads.hinge_inertia: thin shells, bulkheads and a solid
+    fin, no joint hardware) against the built solids' mass properties (B-rep volumes at the print model's
+    densities) of the links behind the joint, about the same hinge axis (yaw, held straight), and in water the
+    water the built flooded links carry. Two computations that share no code; the shells leave out the joint
+    hardware, screws and inserts, so the prior is expected low, by up to 35 %."""
+    from swiftfin.layout.loads import hinge_inertia
+    p = default_params
+    rep = default_robot[1]["report"]
+    for j in range(p.joints.count):
+        x_hinge = -layout.joint_stations_mm(p)[j] / 1000.0
+        built = carried = 0.0
+        for k, lk in enumerate(rep.links):
+            if k <= j:                      # the head is link 0; links j+1.. lie behind hinge j (0-based)
+                continue
+            c = lk.com_body_m
+            built += lk.inertial.inertia[2, 2] + lk.inertial.mass_kg * ((c[0] - x_hinge) ** 2 + c[1] ** 2)
+            w = rep.link_entrained_water[k]
+            if w is not None:
+                cw = w.com
+                carried += w.inertia[2, 2] + w.mass_kg * ((cw[0] - x_hinge) ** 2 + cw[1] ** 2)
+        prior = hinge_inertia(p, j)
+        assert 0.65 * built <= prior.links_kg_m2 <= built, (j, prior.links_kg_m2, built)
+        assert prior.entrained_kg_m2 == pytest.approx(carried, rel=0.6), (j, prior.entrained_kg_m2, carried)
