@@ -11,8 +11,11 @@ r_spool phi of cable and the tendon sector of radius d_mount (the tendon moment 
 
 The staircase drives the link through the design's drive: the stepper's stiffness in series with the cable pair,
 the link's inertia and its bearing's damping (``J theta'' + c theta' + K theta = K theta_rigid``), so the base
-model rings after each microstep as the link does. No coefficient is fitted: the radii, stiffness and link come
-from the design file (and the bench file). Where within a sample the logged command acts is identified
+model rings after each microstep as the link does. No coefficient is fitted: the radii and stiffness come from
+the design file, the link on the hinge is the design's own (the links behind the joint and the fin, held straight,
+in air; in water with their added mass and the water they carry: :func:`swiftfin.layout.loads.hinge_inertia`) unless
+a bench file says the bench holds another (:mod:`swiftfin.calibration.bench`); ``added_mass`` identifies the
+inertia's ratio to that prior, both ways. Where within a sample the logged command acts is identified
 (:func:`column_lag_s`, half a sample either side of the declared read-then-command convention) and reported as a
 base term.
 
@@ -27,13 +30,15 @@ This fixes what can and cannot be told apart from the joint angle alone:
   (T1 = c0 / K grows with 1/K) and added mass does not; the effect's ``gain`` (1 when the mechanism's shape is
   right) then rejects the wrong one. On the default bench both are identified; with a heavily damped link they
   would not be.
-* ``coulomb_friction`` seen through the cable is the play operator of half-width tau_c / K; a ``backlash`` dead
-  band held by friction (spool loose on the shaft flat, set screw) is the play operator of half-width gap / 2.
-  Identical fingerprints in a joint-angle log: without a second sensor the engine names one and reports the
-  other as ``indistinguishable_from``. An inline load cell on one cable side (the optional column
-  ``cable_tension_n``) separates them: friction holds the joint by torque, so the tension steps by
-  tau_c / (2 d_mount) at each reversal; a dead band passes no torque and leaves no step
-  (:func:`tension_step_n`, used as each one's plausibility check).
+* ``coulomb_friction`` seen through the cable holds the joint in a band of half-width tau_c / K (a play
+  operator, to first order); a ``backlash`` dead band held by friction (spool loose on the shaft flat, set screw)
+  is the play operator of half-width gap / 2 on the staircase. The friction acts on the link, so it is simulated
+  in the drive (:func:`op.deadzone_drive`) and damps the link's ringing after each microstep, which play at the
+  spool does not: that alone tells them apart on a lightly damped link, and the engine reports the other as
+  ``indistinguishable_from`` where it cannot. An inline load cell on one cable side (the optional column
+  ``cable_tension_n``) separates them for certain: friction holds the joint by torque, so the tension steps by
+  tau_c / (2 d_mount) at each reversal; a dead band passes no torque and leaves no step (:func:`tension_step_n`,
+  used as each one's plausibility check).
 * ``viscous_friction`` (first-order lag c / K) and ``sensor_delay`` (pure delay) agree to first order in
   frequency; the bench command's small high-frequency components (up to 14 Hz) separate them through the
   second-order term (a lag loses gain, a delay does not).
@@ -43,8 +48,9 @@ This fixes what can and cannot be told apart from the joint angle alone:
 Every dynamic effect is modelled with the bare link's own dynamics (J0, c0 below and K from the design), so a
 fitted parameter is the physical one (an inertia, a damping, a stiffness factor) and not a lumped lag.
 
-Bench constants of the test link (not design parameters; change them with the link): see
-:data:`BENCH_LINK_INERTIA_KG_M2` and :data:`BENCH_BEARING_DAMPING_NM_S_RAD`.
+The bare printed arm of the project's own synthetic suite (:data:`BENCH_LINK_INERTIA_KG_M2`, used through
+:data:`swiftfin.calibration.bench.BARE_ARM`) and the hinge's bearing damping (:data:`BENCH_BEARING_DAMPING_NM_S_RAD`,
+the default of every bench) are estimates, not design parameters: a bench file gives yours.
 """
 from __future__ import annotations
 
