@@ -342,3 +342,17 @@ def test_stepper_drive_slips_whole_electrical_cycles(d):
     cycles = end / (d.ratio * cyc)
     assert abs(end) > 0.5 * d.ratio * cyc
     assert abs(cycles - round(cycles)) < 0.05
+
+
+@pytest.mark.parametrize("seed", [3, 4])
+def test_a_late_sensor_delays_every_effect_it_reports(d, seed):
+    """A sensor delay delays what the sensor sees, friction included: the delay's value is shared by every effect's
+    columns, so the model is the delayed prediction. With the effects added to a delayed base (before 2026-11-26)
+    this pair was named Coulomb friction and viscous friction or drag, and fitted together the delay came out
+    2.5 x too long at a gain of 0.38."""
+    cal = run(d, {"coulomb_friction": 0.02, "sensor_delay": 0.006}, seed=seed)
+    got = {fe.name: fe for fe in cal.added_effects_}
+    assert set(got) == {"coulomb_friction", "sensor_delay"}, list(got)
+    assert got["coulomb_friction"].values["friction_torque_nm"] == pytest.approx(0.02, rel=0.03)
+    assert got["sensor_delay"].values["delay_s"] == pytest.approx(0.006, rel=0.03)
+    assert all(abs(fe.values["gain"] - 1.0) < 0.05 for fe in got.values())
