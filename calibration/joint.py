@@ -406,17 +406,22 @@ class _E(Effect):
     pass
 
 
-def _free_drive(ctx: Context) -> np.ndarray:
-    """The drive without dry friction, drag or dead band (:func:`op.deadzone_drive` at zero), the reference the
-    effects simulated in the drive subtract: computed once per context (a window has its own time array)."""
-    cached = ctx.meta.get("_free_drive")
-    if cached is not None and cached[0] is ctx.t:
-        return cached[1]
+def _context_memo(ctx: Context) -> dict:
+    """Values kept on this context object alone. Not in ``ctx.meta``: :meth:`Context.select` copies ``meta`` into
+    every window, where a value of the whole record has the wrong length."""
+    return ctx.__dict__.setdefault("_memo", {})
+
+
+def _drive(ctx: Context, **load) -> np.ndarray:
+    """The link's angle with ``load`` (:func:`op.deadzone_drive`'s ``drag`` or ``friction``) acting on it in the
+    drive, minus the same integration without it (kept per context), so the column is that load's effect alone."""
     d = _d(ctx)
-    out = op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad, d.link_inertia_kg_m2,
-                            d.bearing_damping_nm_s_rad, 0.0)
-    ctx.meta["_free_drive"] = (ctx.t, out)
-    return out
+    run = lambda **kw: op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad,  # noqa: E731
+                                         d.link_inertia_kg_m2, d.bearing_damping_nm_s_rad, 0.0, **kw)
+    memo = _context_memo(ctx)
+    if "free_drive" not in memo:
+        memo["free_drive"] = run()
+    return run(**load) - memo["free_drive"]
 
 
 def ringing_frequency_hz(ctx: Context) -> float | None:
@@ -654,12 +659,10 @@ def _viscous() -> Effect:
 
 def _quadratic_drag() -> Effect:
     def cols(ctx, nl):
-        d = _d(ctx)
         # the drag acts on the link's own speed, its ringing after each microstep included, and damps that ringing
         # as it grows: a link that moves in jerks sees b w|w| partly linear in its mean speed, so the drag is
-        # simulated in the drive (the same integrator with and without it, so the column is the drag alone)
-        return op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad, d.link_inertia_kg_m2,
-                                 d.bearing_damping_nm_s_rad, 0.0, drag=nl["drag_nm_s2_rad2"]) - _free_drive(ctx)
+        # simulated in the drive
+        return _drive(ctx, drag=nl["drag_nm_s2_rad2"])
 
     def phys(v, s, ctx):
         return {"drag_coefficient_nm_s2_rad2": (v["drag_nm_s2_rad2"], s["drag_nm_s2_rad2"], "N m s^2/rad^2")}
@@ -718,7 +721,9 @@ def _hysteresis_by_load_cell(kind: str, half_width_of):
     return check
 
 
-def _play_effect(name, meaning, fingerprint, pname, unit, lo, hi, to_half_width, phys, kind):
+def _play_effect(name, meaning, fingerprint, pname, unit, lo, hi, to_half_width, phys, kind, columns_fn=None):
+    """A hysteresis of half-width ``to_half_width(ctx, value)``: by default play on the drive's input (the
+    staircase); ``columns_fn`` for one that acts elsewhere (dry friction on the link)."""
     def cols(ctx, nl):
         h = to_half_width(ctx, nl[pname])
         d = _d(ctx)
@@ -728,7 +733,7 @@ def _play_effect(name, meaning, fingerprint, pname, unit, lo, hi, to_half_width,
                                d.link_inertia_kg_m2 / K) - ctx.base
     return _E(name=name, meaning=meaning, fingerprint=fingerprint, linear=(_unit_coef(),),
               nonlinear=(Param(pname, unit, lo, hi, "", scale="log", grid=16),), fingerprint_axis="velocity",
-              columns_fn=cols, physical_fn=phys,
+              columns_fn=columns_fn or cols, physical_fn=phys,
               plausible_fn=_hysteresis_by_load_cell(kind, lambda v, ctx: to_half_width(ctx, v[pname]) * v["gain"]))
 
 
@@ -742,18 +747,15 @@ def _coulomb() -> Effect:
         # it damps the link's ringing after each microstep (a play operator on the staircase, then the linear
         # drive, left that ringing undamped: on the design's own link, 35 x the bare arm's inertia and ringing at
         # 16 Hz, friction was named viscous)
-        d = _d(ctx)
-        return op.deadzone_drive(ctx.t, ctx.signals["position"], d.stiffness_nm_rad, d.link_inertia_kg_m2,
-                                 d.bearing_damping_nm_s_rad, 0.0, friction=nl["friction_torque_nm"]) - _free_drive(ctx)
-    e = _play_effect(
+        return _drive(ctx, friction=nl["friction_torque_nm"])
+    return _play_effect(
         "coulomb_friction",
         "Dry friction at the hinge (pin loaded by the cable pretension): a constant torque against the motion, "
         "stretching the cable; the joint sticks at each reversal until the cable has wound up 2 tau_c / K.",
         "a step in the residual at zero velocity (residual = -tau_c/K sign(velocity)), hysteresis after each "
         "reversal: residual against velocity",
-        "friction_torque_nm", "N m", 1e-4, 0.5, lambda ctx, x: x / _d(ctx).stiffness_nm_rad, phys, "friction")
-    e.columns_fn = cols
-    return e
+        "friction_torque_nm", "N m", 1e-4, 0.5, lambda ctx, x: x / _d(ctx).stiffness_nm_rad, phys, "friction",
+        columns_fn=cols)
 
 
 def _backlash() -> Effect:
@@ -933,12 +935,12 @@ def _seen_late(columns_fn):
         # the undelayed columns, kept per context while the delay alone changes (a simulated drive costs 65 ms on
         # a million rows; the search asks for it again at every delay it tries, and once the delay is in the model
         # at every step after)
-        memo = ctx.__dict__.setdefault("_undelayed", {})
+        memo = _context_memo(ctx)
         key = (id(columns_fn), tuple(sorted((k, v) for k, v in nl.items() if k != "delay_s")))
         X = memo.get(key)
         if X is None:
             X = np.asarray(columns_fn(ctx, nl), float).reshape(ctx.n, -1)
-            used = sum(v.nbytes for v in memo.values())
+            used = sum(v.nbytes for v in memo.values() if isinstance(v, np.ndarray))
             if used + X.nbytes <= UNDELAYED_MEMO_BYTES:
                 X.setflags(write=False)             # shared by every later call: nobody may change it
                 memo[key] = X
@@ -948,16 +950,20 @@ def _seen_late(columns_fn):
     return cols
 
 
-#: Memory for the undelayed columns of one context (:func:`_seen_late`).
+#: Memory for the undelayed columns of one context (:func:`_seen_late`, in :func:`_context_memo`).
 UNDELAYED_MEMO_BYTES = 200_000_000
 
 
-EFFECTS: tuple[Effect, ...] = (_offset(), _effective_radius(), _cable_compliance(), _coulomb(), _viscous(),
-                               _quadratic_drag(), _added_mass(), _backlash(), _slack(), _creep(), _delay(),
-                               _lost_steps(), _stepper_torque())
-for _e in EFFECTS:
-    if _e.name != "sensor_delay":
-        _e.columns_fn = _seen_late(_e.columns_fn)
+def _as_reported(eff: Effect) -> Effect:
+    """The effect as the sensor reports it: late by the model's sensor delay (the delay itself excepted)."""
+    if eff.name != "sensor_delay":
+        eff.columns_fn = _seen_late(eff.columns_fn)
+    return eff
+
+
+EFFECTS: tuple[Effect, ...] = tuple(_as_reported(e) for e in (
+    _offset(), _effective_radius(), _cable_compliance(), _coulomb(), _viscous(), _quadratic_drag(), _added_mass(),
+    _backlash(), _slack(), _creep(), _delay(), _lost_steps(), _stepper_torque()))
 
 EFFECT_NAMES = tuple(e.name for e in EFFECTS)
 
