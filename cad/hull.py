@@ -262,9 +262,13 @@ def _seam_bosses(p: Params, pc: HullPiece, outer: bd.Solid) -> list[bd.Shape]:
     from the seam face and kept inside the skin."""
     out = []
     for f in seam_features(p, pc):
-        up = rod((-f.s_mm, f.y_mm, 0.0), (0, 0, 1), f.boss_radius_mm, f.upper_height_mm)
-        lo = rod((-f.s_mm, f.y_mm, 0.0), (0, 0, -1), f.boss_radius_mm, f.lower_depth_mm)
-        out += [isect(up, outer), isect(lo, outer)]
+        for direction, length in (((0, 0, 1), f.upper_height_mm), ((0, 0, -1), f.lower_depth_mm)):
+            for shrink in (0.0, 1e-3, 1e-2):    # a tangency can leave OpenCascade's common invalid (a 700 mm
+                #                                  hull of 1.6 sections did): a micrometre less radius avoids it
+                boss = isect(rod((-f.s_mm, f.y_mm, 0.0), direction, f.boss_radius_mm - shrink, length), outer)
+                if boss.is_valid:
+                    break
+            out.append(boss)
     return out
 
 

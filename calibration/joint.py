@@ -519,8 +519,9 @@ def _tension_coefficient(T: np.ndarray, X: np.ndarray, k: int) -> tuple[float, f
 
 def tension_angle_slope(ctx: Context) -> tuple[float, float] | None:
     """From the optional load cell: how side A's tension follows the joint angle [N/rad] and its standard error
-    (least squares of tension on angle, with the direction of motion and the speed as nuisance terms), or None
-    without a load cell. A torque that grows with the angle (a spring at the hinge: a wire harness, a seal) pulls
+    (least squares of tension on angle, with the direction of motion, the speed and the acceleration as nuisance
+    terms: the link's inertia pulls a side by J theta'' / (2 d_mount), which a motion that rings back and forth
+    makes look like a negative spring), or None without a load cell. A torque that grows with the angle (a spring at the hinge: a wire harness, a seal) pulls
     one side by k theta / (2 d_mount); a transmission-ratio error moves the joint without any torque. Computed on
     the whole record (``meta['parent']``)."""
     full = ctx.meta.get("parent", ctx)
@@ -531,7 +532,8 @@ def tension_angle_slope(ctx: Context) -> tuple[float, float] | None:
     if cached is not None:
         return cached
     w = op.derivative(full.t, full.y, window_s=0.03, order=1)
-    out = _tension_coefficient(T, np.column_stack([np.ones(full.n), full.y, np.sign(w), w]), 1)
+    acc = op.derivative(full.t, full.y, window_s=0.03, order=2)
+    out = _tension_coefficient(T, np.column_stack([np.ones(full.n), full.y, np.sign(w), w, acc]), 1)
     full.meta["_tension_angle"] = out
     return out
 

@@ -201,3 +201,24 @@ def test_bad_input_one_message_exit_2(short_log, tmp_path, capsys, argv, message
     assert len(err) == 1 and err[0].startswith("swiftfin fit: error:"), cap.err
     assert message in err[0], err[0]
     assert "Traceback" not in cap.err and not (tmp_path / "o" / "fit_report.json").exists()
+
+
+def test_a_heavier_links_inertia_is_not_taken_for_a_hinge_spring(tmp_path):
+    """The load cell's tension follows the joint angle through the link's inertia (J theta'' / 2 d, which a motion
+    that rings back and forth makes look like a negative spring). On a design with 1.6-deep sections (its tail link
+    1 % heavier) the effective-radius error was refused as "a spring at the hinge" and nothing was named; with the
+    acceleration as a nuisance term of the tension's regression it is named and fitted to the noise floor."""
+    text = DEFAULT_DESIGN.read_text().replace("height_to_width = 1.5", "height_to_width = 1.6")
+    assert "height_to_width = 1.6" in text
+    design = tmp_path / "deep.toml"
+    design.write_text(text)
+    d = ["--design", str(design)]
+    for name, seed in (("a.csv", 2), ("b.csv", 3)):
+        assert main(["synth", "joint", "--out", str(tmp_path / name), "--seed", str(seed), "--duration", "20",
+                     "--effect", "effective_radius=1.04", *d]) == 0
+    assert main(["fit", "joint", str(tmp_path / "a.csv"), "--holdout", str(tmp_path / "b.csv"),
+                 "--out", str(tmp_path / "o"), "--no-plots", *d]) == 0
+    rep = json.loads((tmp_path / "o" / "fit_report.json").read_text())
+    assert [e["name"] for e in rep["added_effects"]] == ["effective_radius"]
+    v = rep["added_effects"][0]["params"]["ratio_error"]
+    assert abs(v["value"] - 0.04) < 3 * v["std"] + 1e-4

@@ -587,3 +587,14 @@ def test_unsplit_segments_stand_on_their_end():
     bb = parts[0].solid.rotate(bd.Axis.Y, -90.0).bounding_box()
     h3 = joint_hardware(p, 3)   # the clevis lugs reach back to joint 3's axis plus the lug radius
     assert bb.size.Z == pytest.approx(-h3.x_mm + h3.lug_radius_mm - pc.s_start_mm, abs=1e-3)
+
+
+def test_a_deeper_longer_hull_still_builds_one_valid_solid_per_part():
+    """A 700 mm hull of 1.6-deep sections: OpenCascade's common of a seam boss's rod and the lofted shell came out
+    invalid at a tangency, and the fuse of the piece's additions then returned nothing (hull_head_front: 0 solids).
+    The boss is retried a micrometre thinner."""
+    p = dataclasses.replace(P, body=dataclasses.replace(P.body, length_mm=700.0, height_to_width=1.6))
+    from swiftfin.cad.hull import piece_solid
+    head = next(pc for pc in hull_pieces(p) if pc.nose)
+    s = piece_solid(p, head)
+    assert s.is_valid and len(s.solids()) == 1 and s.volume > 1e5
