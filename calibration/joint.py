@@ -521,9 +521,9 @@ def tension_angle_slope(ctx: Context) -> tuple[float, float] | None:
     """From the optional load cell: how side A's tension follows the joint angle [N/rad] and its standard error
     (least squares of tension on angle, with the direction of motion, the speed and the acceleration as nuisance
     terms: the link's inertia pulls a side by J theta'' / (2 d_mount), which a motion that rings back and forth
-    makes look like a negative spring), or None without a load cell. A torque that grows with the angle (a spring at the hinge: a wire harness, a seal) pulls
-    one side by k theta / (2 d_mount); a transmission-ratio error moves the joint without any torque. Computed on
-    the whole record (``meta['parent']``)."""
+    makes look like a negative spring), or None without a load cell. A torque that grows with the angle (a spring
+    at the hinge: a wire harness, a seal) pulls one side by k theta / (2 d_mount); a transmission-ratio error moves
+    the joint without any torque. Computed on the whole record (``meta['parent']``)."""
     full = ctx.meta.get("parent", ctx)
     T = full.signals.get("tension")
     if T is None:
