@@ -18,12 +18,12 @@ that touch, each of which needs a seal of its own.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from swiftfin.core.schema import Params
-from swiftfin.layout.hull_plan import hull_pieces, hull_section_semi_axes_mm, nose_cap
+from swiftfin.layout.hull_plan import dry_bulkhead, hull_pieces, hull_section_semi_axes_mm, nose_cap
 
 INSET_MM = 0.25
 """The wall zone keeps this far inside the printed wall's faces: the loft between its stations (< 0.05 mm), the
@@ -103,14 +103,12 @@ def _envelope(p: Params, s0: float, s1: float, shrink_mm: float, s_apex: float |
 def wall_zone(p: Params, inset_mm: float = INSET_MM, with_cavity: bool = False):
     """(zone, outer layer, inner layer) as manifolds: the part of the dry wall that must be solid, and its skins;
     ``with_cavity``: also the cavity grown into the zone's inner skin."""
-    pieces = sealed_pieces(p)
-    if not pieces:
+    dry = dry_bulkhead(p)
+    if dry is None:
         raise ValueError("no sealed hull piece: hull.flooded_from_joint = 0")
-    s_end = max(pc.s_end_mm for pc in pieces)
-    t, w = p.hull.bulkhead_thickness_mm, p.hull.wall_thickness_mm
+    s_end, c1 = dry.s_back_mm, dry.s_dry_end_mm
+    w = p.hull.wall_thickness_mm
     s_cap = nose_cap(p).s_cap_mm
-    last = max(pieces, key=lambda pc: pc.s_end_mm)
-    c1 = s_end - t if last.rear_joint is not None else s_end - 1.0
     tip = 0.5                      # the apex: a small step behind the nose tip
     outer = _envelope(p, tip + inset_mm, s_end - inset_mm, inset_mm, s_apex=inset_mm)
     outer2 = _envelope(p, tip + inset_mm + LAYER_MM, s_end - inset_mm - LAYER_MM, inset_mm + LAYER_MM,
@@ -159,4 +157,146 @@ def seams(p: Params, manifolds: dict, gap_mm: float = 0.05) -> list[tuple[str, s
         for b in labels[i + 1:]:
             if manifolds[a].min_gap(manifolds[b], gap_mm) <= gap_mm:
                 out.append((a, b))
+    return out
+
+
+# ----------------------------------------------------------------------------------------------- sealed crossings
+@dataclass(frozen=True)
+class SealedCrossing:
+    """A declared crossing of the dry wall and how it is sealed (catalogues/seals.toml): an axis, a radius round it
+    that the hole stays inside, and the seal."""
+    kind: str                                   # "cable_gland" | "bedded_screw"
+    label: str
+    start_mm: tuple[float, float, float]
+    end_mm: tuple[float, float, float]
+    radius_mm: float
+    packed_mm: float = 0.0                      # a cable gland's potted tube length through the wall
+    stroke_mm: float = 0.0                      # its cable's stroke (moment arm x stop angle)
+    joint: int = 0
+
+
+AXIS_TOLERANCE_MM = 0.3
+"""A hole belongs to a declared crossing when it lies within the crossing's radius plus this of its axis (the
+tessellation and the loft's departure from the exact ellipse stay under it)."""
+
+
+def cable_glands(p: Params) -> tuple[SealedCrossing, ...]:
+    """The cable glands through the dry compartment's rear wall: one per cable that crosses it, along the cable's
+    route from the wall's dry face to its back face (:func:`swiftfin.cad.hull.bulkhead_passages`), the PTFE tube's
+    bore round it; ``packed_mm`` is the tube's length from its mouth on the dry face to its seat."""
+    from swiftfin.cad.hull import bore_ahead_mm, bulkhead_passages
+    from swiftfin.layout.geometry import joint_stop_angles_rad, tube_bore_diameter_mm
+    from swiftfin.layout.hull_plan import hull_pieces
+    dry = dry_bulkhead(p)
+    if dry is None or dry.rear_joint is None:
+        return ()
+    pc = next(q for q in hull_pieces(p) if q.name == dry.piece)
+    stops = joint_stop_angles_rad(p)
+    r = tube_bore_diameter_mm(p, "bulkhead") / 2
+    out = []
+    for route, front, back, seat in bulkhead_passages(p, pc):
+        if not -dry.s_back_mm <= front[0] <= -dry.s_front_mm + 1e-6:
+            continue
+        u = (back - front) / np.linalg.norm(back - front)
+        packed = float((seat - front) @ u) if seat is not None else 0.0
+        side = "left" if route.side > 0 else "right"
+        ahead = bore_ahead_mm(p, u[0])
+        out.append(SealedCrossing("cable_gland", f"gland_{route.joint + 1}_{side}", tuple(map(float, front - ahead * u)),
+                                  tuple(map(float, back + 2 * u)), r, packed,
+                                  p.joints.tendon_moment_arm_mm * stops[route.joint], route.joint + 1))
+    return tuple(out)
+
+
+def bedded_screws(p: Params) -> tuple[SealedCrossing, ...]:
+    """Every cap screw with a sealed hull part under its head or round its thread: where its hole crosses the dry
+    wall it is bedded in sealant (catalogues/seals.toml ``[bedded_screw]``)."""
+    from swiftfin.cad.fastening import all_fasteners
+    from swiftfin.catalogues.fasteners import fastener
+    sealed = set(sealed_part_labels(p))
+    out = []
+    for f in all_fasteners(p):
+        if f.kind != "cap_screw" or not ({f.head_part, f.thread_part} & sealed):
+            continue
+        a = np.asarray(f.axis, float)
+        h = np.asarray(f.head_mm, float)
+        r = fastener(f.size).counterbore_diameter_mm / 2
+        out.append(SealedCrossing("bedded_screw", f.label, tuple(map(float, h - 6.0 * a)),
+                                  tuple(map(float, h + (f.length_mm + 1.0) * a)), r))
+    return tuple(out)
+
+
+def _capsule_manifold(c: SealedCrossing):
+    import manifold3d as m3d
+    a, b = np.asarray(c.start_mm), np.asarray(c.end_mm)
+    length = float(np.linalg.norm(b - a))
+    cyl = m3d.Manifold.cylinder(length, c.radius_mm + AXIS_TOLERANCE_MM, c.radius_mm + AXIS_TOLERANCE_MM, 48)
+    z = (b - a) / length
+    x = np.cross(z, [0.0, 0.0, 1.0]) if abs(z[2]) < 0.9 else np.cross(z, [1.0, 0.0, 0.0])
+    x /= np.linalg.norm(x)
+    y = np.cross(z, x)
+    m = np.column_stack([x, y, z, a])                         # 3 x 4: columns are the new axes and the origin
+    return cyl.transform(m)
+
+
+@dataclass(frozen=True)
+class DryReport:
+    openings: tuple[Opening, ...]               # every through-opening of the dry wall
+    sealed: tuple[tuple[Opening, str], ...]     # (opening, the crossing that seals it)
+    unsealed: tuple[Opening, ...]               # openings no declared crossing accounts for
+    glands: tuple[SealedCrossing, ...]
+    screws: tuple[SealedCrossing, ...]          # the bedded screws whose hole crosses the wall
+
+
+def check_dry_wall(p: Params, manifolds: dict) -> DryReport:
+    """Every through-opening of the dry wall, each matched to the declared crossing that seals it: the part of the
+    opening on the cavity's side (its mouth, in the zone's inner skin) must lie inside a declared crossing's hole.
+    What no crossing accounts for is unsealed; :func:`refuse_unsealed` turns that into a build error."""
+    import manifold3d as m3d
+
+    glands, screws = cable_glands(p), bedded_screws(p)
+    crossings = list(glands) + list(screws)
+    shapes = [_capsule_manifold(c) for c in crossings]
+    labels = [lb for lb in sealed_part_labels(p) if lb in manifolds]
+    union = m3d.Manifold.batch_boolean([manifolds[lb] for lb in labels], m3d.OpType.Add)
+    zone, outer_layer, inner_layer, cavity = wall_zone(p, with_cavity=True)
+    air_pieces = (cavity - union).decompose()
+    air = max(air_pieces, key=lambda m: m.volume()) if air_pieces else cavity
+    openings, sealed, unsealed, used = [], [], [], set()
+    for piece in (zone - union).decompose():
+        if piece.volume() < MIN_OPENING_MM3:
+            continue
+        if not ((piece ^ outer_layer).volume() > 1e-3 and (piece ^ air).volume() > 1e-3):
+            continue                                              # a pocket: it does not go through
+        bb = np.asarray(piece.bounding_box(), dtype=float)
+        near = min(labels, key=lambda lb: manifolds[lb].min_gap(piece, 5.0))
+        mouth = piece ^ inner_layer
+        rest = mouth
+        by = []
+        for c, shape in zip(crossings, shapes):
+            if (mouth ^ shape).volume() > 1e-6:
+                rest = rest - shape
+                by.append(c.label)
+        op = Opening(near, tuple(float(v) for v in (bb[:3] + bb[3:]) / 2), tuple(float(v) for v in bb[3:] - bb[:3]),
+                     float(piece.volume()), True)
+        openings.append(op)
+        if rest.volume() > MIN_OPENING_MM3 * 0.1 or not by:
+            rb = np.asarray(rest.bounding_box(), dtype=float) if rest.volume() > 0 else bb
+            unsealed.append(replace(op, centre_mm=tuple(float(v) for v in (rb[:3] + rb[3:]) / 2)))
+        else:
+            sealed.append((op, ", ".join(by)))
+            used.update(by)
+    return DryReport(tuple(openings), tuple(sealed), tuple(unsealed), glands,
+                     tuple(c for c in screws if c.label in used))
+
+
+def dry_wall_problems(p: Params, report: DryReport) -> list[str]:
+    """What makes the build refuse the dry compartment: an opening no declared crossing seals (its part, place and
+    size), and a cable gland whose packing the cable's stroke wets through (the wet stretch reaches the dry side)."""
+    out = [f"{o}: not a declared sealed crossing (catalogues/seals.toml): no clearance cut, hole or vent may break "
+           f"the dry wall" for o in report.unsealed]
+    for g in report.glands:
+        if g.packed_mm <= g.stroke_mm:
+            out.append(f"{g.label}: its potted tube through the dry wall is {g.packed_mm:.1f} mm long, no longer than "
+                       f"the cable's stroke {g.stroke_mm:.1f} mm: the wet stretch of cable reaches the dry side "
+                       f"(hull.cable_gland_length_mm, or the clevis room of joint {p.hull.flooded_from_joint})")
     return out

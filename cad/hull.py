@@ -62,7 +62,7 @@ from swiftfin.cad.part import PartSpec
 from swiftfin.core.schema import Params
 
 from swiftfin.layout.hull_plan import (  # noqa: F401  the numbers, re-exported for the part family
-    SPLICE_LENGTH_MM, HullPiece, cavity_range_mm, NoseCap, SeamFeature, SpliceJoint, bed_rotation_deg, flooded, hull_fasteners,
+    SPLICE_LENGTH_MM, HullPiece, cavity_range_mm, dry_bulkhead, NoseCap, SeamFeature, SpliceJoint, bed_rotation_deg, flooded, hull_fasteners,
     hull_pieces, hull_section_semi_axes_mm, nose_cap, printed_size_mm, seam_features, splice_joint)
 
 
@@ -110,12 +110,16 @@ def _outer(p: Params, pc: HullPiece) -> bd.Solid:
 
 
 def _bulkheads(p: Params, pc: HullPiece) -> list[tuple[float, float]]:
-    """(s_front, s_back) of each bulkhead of the piece."""
+    """(s_front, s_back) of each bulkhead of the piece; the dry compartment's rear wall is as thick as its cable
+    glands need (:func:`swiftfin.layout.hull_plan.dry_bulkhead`)."""
     t = p.hull.bulkhead_thickness_mm
     out = []
     if pc.front_joint is not None:
         out.append((pc.s_start_mm, pc.s_start_mm + t))
-    if pc.rear_joint is not None:
+    dry = dry_bulkhead(p)
+    if dry is not None and dry.piece == pc.name and dry.rear_joint is not None:
+        out.append((dry.s_front_mm, pc.s_end_mm))
+    elif pc.rear_joint is not None:
         out.append((pc.s_end_mm - t, pc.s_end_mm))
     return out
 
@@ -141,12 +145,16 @@ def in_clevis_cut(p: Params, h, pts: np.ndarray, hole_r: float) -> bool:
 
 def bulkhead_passages(p: Params, pc: HullPiece) -> list[tuple]:
     """Where the cable routes cross the bulkheads of this piece: ``(route, front, back, seat)``, the route's segment
-    that crosses a bulkhead's mid-plane cut at the bulkhead's front and back faces (body frame, mm), and where its
+    that crosses a bulkhead's mid-plane from its tube's mouth (where the route meets the front face, moved back
+    along the route until the rim of the tube's square-cut end is inside the face) to the back face (body frame,
+    mm), and where its
     PTFE tube ends on the printed shoulder (:func:`swiftfin.layout.geometry.tube_seat_shoulder_mm` short of the back
-    face). ``seat`` is None where the passage holds no tube: the hole breaks into the clevis's room for the link
-    behind (no bore to hold one), or the bulkhead is too thin for a tube of ``MIN_TUBE_MM`` and its shoulder."""
+    face, or of where its bore would break into the clevis's room for the link behind). ``seat`` is None where the
+    passage holds no tube: the bulkhead is too thin for a tube of ``MIN_TUBE_MM`` and its shoulder. Through the dry
+    compartment's rear wall the tube is a cable gland (catalogues/seals.toml), potted along its bore."""
     hw = {h.joint: h for h in all_joint_hardware(p)}
     r_bore = L.tube_bore_diameter_mm(p, "bulkhead") / 2
+    tube_r = p.guides.ptfe_tube_od_mm / 2
     shoulder = L.tube_seat_shoulder_mm(p)
     out = []
     for sf, sb in _bulkheads(p, pc):
@@ -160,12 +168,32 @@ def bulkhead_passages(p: Params, pc: HullPiece) -> list[tuple]:
                     continue
                 d = b - a
                 front, back = a + (xf - a[0]) / d[0] * d, a + (xb - a[0]) / d[0] * d
-                seat = back - shoulder * (back - front) / np.linalg.norm(back - front)
-                if (rear is not None and in_clevis_cut(p, hw[rear], np.array([front, back]), r_bore)) \
-                        or np.linalg.norm(seat - front) < L.MIN_TUBE_MM:
+                u = (back - front) / np.linalg.norm(back - front)
+                # the tube's mouth sits back in its bore until the rim of its square-cut end is inside the face
+                front = front + tube_r * math.sqrt(max(0.0, 1.0 - u[0] ** 2)) / abs(u[0]) * u
+                end = back
+                if rear is not None and in_clevis_cut(p, hw[rear], np.array([front, back]), r_bore):
+                    # the bore would break into the clevis room: the tube stops a shoulder short of where it would
+                    lo, hi = 0.0, 1.0
+                    for _ in range(30):
+                        mid = 0.5 * (lo + hi)
+                        if in_clevis_cut(p, hw[rear], np.array([front, front + mid * (back - front)]), r_bore):
+                            hi = mid
+                        else:
+                            lo = mid
+                    end = front + lo * (back - front)
+                seat = end - shoulder * u
+                if float((seat - front) @ u) < L.MIN_TUBE_MM:
                     seat = None
                 out.append((route, front, back, seat))
     return out
+
+
+def bore_ahead_mm(p: Params, axis_x: float) -> float:
+    """How far ahead of a tube's mouth, along its route (``axis_x`` the route direction's x component), the bore of
+    a bulkhead passage is cut: 2 mm along the body, plus enough that the tilted bore opens fully on the front face
+    where the mouth sits back in it."""
+    return (2.0 + L.tube_bore_diameter_mm(p, "bulkhead")) / abs(axis_x)
 
 
 def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
@@ -178,8 +206,10 @@ def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
     for _, front, back, seat in bulkhead_passages(p, pc):
         d = (back - front) / np.linalg.norm(back - front)
         ext = 2.0 / abs(d[0])                   # 2 mm beyond each face, along x
+        ext_front = bore_ahead_mm(p, d[0])
         end = back + ext * d if seat is None else seat
-        out.append(rod(tuple(front - ext * d), tuple(d), r_bore, float(np.linalg.norm(end - front)) + ext))
+        out.append(rod(tuple(front - ext_front * d), tuple(d), r_bore,
+                       float(np.linalg.norm(end - front)) + ext_front))
         if seat is not None:
             out.append(rod(tuple(seat - 0.1 * d), tuple(d), r_exit,
                            float(np.linalg.norm(back - seat)) + 0.1 + ext))

@@ -1,5 +1,7 @@
-"""Static O-ring face seals (``seals.toml`` beside this module, sources there): the gland for a cord, and the three
-numbers that judge an installed ring — squeeze, gland fill and stretch — with the limits they must meet.
+"""Seals (``seals.toml`` beside this module, sources there). Static O-ring face seals: the gland for a cord, and the
+three numbers that judge an installed ring — squeeze, gland fill and stretch — with the limits they must meet. The
+grease-packed cable gland (:func:`cable_gland`), and the other declared crossings of the dry wall
+(:func:`seal_item`).
 
 A printed groove is only as exact as the printer: :meth:`FaceGland.squeeze_range` gives the squeeze at the gland
 depth +/- ``limits.print_tolerance_mm``, which is what the seal rule checks.
@@ -79,3 +81,29 @@ def face_gland(cord_mm: float) -> FaceGland:
             return g
     raise KeyError(f"no face gland for a {cord_mm:g} mm cord in catalogues/seals.toml (it holds "
                    f"{', '.join(f'{c:g}' for c in cord_diameters_mm())} mm)")
+
+
+@dataclass(frozen=True)
+class CableGland:
+    """The grease-packed cable gland of ``seals.toml`` (``[cable_gland]``)."""
+    grease_yield_stress_pa: float
+    pressure_safety_factor: float
+    stroke_margin_mm: float
+    sleeve_diametral_clearance_mm: float
+    grease: str
+
+    @property
+    def radial_gap_mm(self) -> float:
+        return self.sleeve_diametral_clearance_mm / 2
+
+
+@cache
+def cable_gland() -> CableGland:
+    row = _table()["cable_gland"]
+    return CableGland(**{k: (v if isinstance(v, str) else float(v)) for k, v in row.items()})
+
+
+@cache
+def seal_item(kind: str) -> dict:
+    """The row of a declared crossing of the dry wall (``bedded_screw``, ``bonded_seam``)."""
+    return dict(_table()[kind])

@@ -54,10 +54,12 @@ class Body:
     naca_thickness_fraction: float = p(0.15, 0.06, 0.30,
                                        "Maximum hull width / length of the NACA 00xx profile (at 30 % of length)",
                                        f"{PAPER} Table 2 (NACA 0015)")
-    height_to_width: float = p(1.5, 0.6, 2.5,
+    height_to_width: float = p(1.6, 0.6, 2.5,
                                "Height / width of the elliptical cross-sections",
-                               "Not in the paper; yellowfin depth/width ~1.4-1.6. 1.5 leaves room for 4 NEMA 17 "
-                               "stacks (motor + spool, 61 mm tall)")
+                               "Not in the paper; yellowfin depth/width ~1.4-1.6. 1.45 is the least that holds 4 "
+                               "NEMA 17 stacks (motor + spool, 61 mm tall); 1.6 because the sealed head must float the "
+                               "buildable fish (at 1.5 its dry compartment, which ends at a wall ahead of joint 1's "
+                               "clevis, leaves it 64 g heavy)")
     nose_cap_fraction: float = p(0.03, 0.01, 0.10,
                                  "Length of the rounded (ellipsoidal) nose cap / body length",
                                  "Not in the paper; closes the NACA leading edge smoothly")
@@ -96,6 +98,13 @@ class Hull:
     seam_dowel_diameter_mm: float = p(2.0, min(DOWELS), max(DOWELS), "Dowel pins aligning the hull halves (one on "
                                       "each side of every piece, ISO 8734, in reamed bores)",
                                       "Engineering default; sizes of catalogues/pins.toml", choices=DOWELS)
+    cable_gland_length_mm: float = p(14.0, 2.0, 60.0, "Packed length of each cable's gland through the dry "
+                                     "compartment's rear wall, which is this thick (plus the tube seat's shoulder): "
+                                     "the PTFE tube, potted in the wall, holds a close PTFE sleeve packed with grease "
+                                     "round the cable",
+                                     "Design: the cable's stroke (moment arm x stop angle, 10 mm at joint 4) plus the "
+                                     "grease plug that holds the design depth (catalogues/seals.toml); the wall's "
+                                     "front face then stands just behind the bay guide")
 
 
 @dataclass(frozen=True)
@@ -282,6 +291,9 @@ class Environment:
     foam_density_kg_m3: float = p(100.0, 30.0, 900.0, "Density of the flotation foam",
                                   "Closed-cell PVC foam for marine cores, e.g. Divinycell H100 (100 kg/m^3, "
                                   "DIAB datasheet); it does not soak up water, unlike open-cell or EPS foam")
+    design_depth_m: float = p(0.5, 0.05, 100.0, "Deepest water the fish is built for: its seals must hold the "
+                              "water's pressure there (with the seal table's safety factor)",
+                              "Design choice: a test tank; the fish swims near the surface")
     water_temperature_c: float = p(20.0, 0.0, 40.0, "Water temperature", "Engineering default (a pool or a tank)")
     heat_transfer_water_w_m2_k: float = p(200.0, 10.0, 10000.0, "Convection from the hull to the water",
                                           "Natural convection in water 100-1000 W/m^2 K (Incropera & DeWitt, Table "

@@ -457,6 +457,54 @@ def run_time(ctx: RuleContext) -> Finding:
                            f"delivered to the joints; {ctx.load_note})")
 
 
+def gland_rating_m(p: Params, packed_length_mm: float, stroke_mm: float) -> float:
+    """Depth a grease-packed cable gland is good for (physics/sealing.py, catalogues/seals.toml ``[cable_gland]``):
+    the stretch of its packing the cable's stroke never wets, ``packed - stroke``, must hold the water's pressure with
+    the table's safety factor; a gland the stroke wets through holds nothing [m]."""
+    from swiftfin.catalogues.seals import cable_gland
+    from swiftfin.physics.sealing import grease_plug_hold_pa, rated_depth_m
+    g = cable_gland()
+    dry_len = max(packed_length_mm - stroke_mm, 0.0)
+    hold = grease_plug_hold_pa(g.grease_yield_stress_pa, dry_len, g.radial_gap_mm)
+    env = p.environment
+    return rated_depth_m(hold, g.pressure_safety_factor, env.water_density_kg_m3, env.gravity_m_s2)
+
+
+def cable_gland(ctx: RuleContext) -> Finding:
+    from swiftfin.catalogues.seals import cable_gland as gland_row
+    from swiftfin.layout.geometry import joint_stop_angles_rad
+    p = ctx.p
+    g = gland_row()
+    stops = joint_stop_angles_rad(p)
+    j = int(np.argmax(stops))
+    stroke = p.joints.tendon_moment_arm_mm * stops[j]
+    rated = gland_rating_m(p, p.hull.cable_gland_length_mm, stroke)
+    return at_least("seal.cable_gland", rated, p.environment.design_depth_m,
+                    "a cable gland through the dry wall (catalogues/seals.toml): the packing its cable's stroke "
+                    "never wets holds 2 tau_y L / h (physics/sealing.py) with the safety factor, down to this depth; "
+                    "against environment.design_depth_m", unit="m",
+                    detail=f"packed {p.hull.cable_gland_length_mm:g} mm less joint {j + 1}'s stroke {stroke:.1f} mm "
+                           f"(moment arm x stop angle); tau_y {g.grease_yield_stress_pa:g} Pa (an assumed low-end "
+                           f"grease), gap {g.radial_gap_mm:g} mm, safety factor {g.pressure_safety_factor:g}. The "
+                           f"build checks each gland's own length through the wall")
+
+
+def built_gland_finding(p: Params, glands) -> Finding:
+    """``seal.cable_glands_built``: the least rated depth over the built cable glands (each its own packed length
+    through the rear wall and its own joint's stroke; ``cad.dry_check.cable_glands``). A build-time finding, like
+    the float rules: ``swiftfin check`` has the design's packed length only (``seal.cable_gland``)."""
+    if not glands:
+        return not_evaluated("seal.cable_glands_built", "cad/dry_check.py", "no cable crosses a dry wall")
+    worst = min(glands, key=lambda g: gland_rating_m(p, g.packed_mm, g.stroke_mm))
+    return at_least("seal.cable_glands_built", gland_rating_m(p, worst.packed_mm, worst.stroke_mm),
+                    p.environment.design_depth_m,
+                    "each built cable gland: its own packed length through the dry wall less its joint's stroke "
+                    "holds the water down to this depth (the least of them)", unit="m",
+                    detail=f"{worst.label}: {worst.packed_mm:.1f} mm packed, stroke {worst.stroke_mm:.1f} mm; "
+                           + ", ".join(f"{g.label} {gland_rating_m(p, g.packed_mm, g.stroke_mm):.2f} m"
+                                       for g in glands))
+
+
 @dataclass(frozen=True)
 class Rule:
     rule_id: str
@@ -488,6 +536,7 @@ RULES: list[Rule] = [
     Rule("heat.dry_compartment", "heat", dry_compartment_temperature),
     Rule("heat.motor_mount", "heat", motor_mount_temperature),
     Rule("power.run_time", "power", run_time),
+    Rule("seal.cable_gland", "seal", cable_gland),
     Rule("float.upright", "float", floats_upright),
     Rule("float.net_buoyancy", "float", net_buoyancy),
     Rule("float.level", "float", floats_level),

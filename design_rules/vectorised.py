@@ -55,6 +55,7 @@ from functools import cache
 import numpy as np
 
 from swiftfin.catalogues.materials import material
+from swiftfin.catalogues.seals import cable_gland
 from swiftfin.core.schema import SECTIONS, Params
 from swiftfin.design_rules.findings import Severity
 from swiftfin.design_rules.rules import (MIN_GUIDE_BEND_RAD, MOTOR_CASE_AREA_FACES, RULES, MassProperties,
@@ -1100,6 +1101,13 @@ def _evaluate_group(cols: dict, n: int, mass: MassPropertyArrays | None, work: d
     out.power_w = np.asarray(draw, float)
     minutes = c("power.battery_energy_wh") * 3600.0 * c("power.battery_usable_fraction") / draw / 60.0
     out.at_least("power.run_time", minutes, c("power.run_time_required_min"))
+    gland = cable_gland()
+    stroke = (g.stop * c("joints.tendon_moment_arm_mm")).max(axis=0)
+    dry_len = np.maximum(c("hull.cable_gland_length_mm") - stroke, 0.0)
+    hold = 2.0 * gland.grease_yield_stress_pa * dry_len / gland.radial_gap_mm
+    rated = hold / (gland.pressure_safety_factor * c("environment.water_density_kg_m3")
+                    * c("environment.gravity_m_s2"))
+    out.at_least("seal.cable_gland", rated, c("environment.design_depth_m"))
     # floating
     if mass is None:
         for rid in ("float.upright", "float.net_buoyancy", "float.level"):
@@ -1181,8 +1189,9 @@ def _sized_as_a_designer_would(p: Params) -> Params:
     """``p`` with two sizes a designer picks from the rest rather than by chance: the smallest catalogue hull screw
     its motor mounts' wall fixings can be made with (a strong motor on a small drum pulls its mount so hard that an
     M2's pad floor outgrows every M2 length), and as many foam blocks (up to the default's) as its flooded segments
-    have room for. A size that cannot be made stays as drawn (the loader then says why). No draw: the random stream
-    stays as it was."""
+    have room for, and cable glands as long as its stroke and design depth need (:func:`gland_length_needed_mm`). A
+    size that cannot be made stays as drawn (the loader then says why). No draw: the random stream stays as it
+    was."""
     from swiftfin.catalogues.fasteners import screw_diameters_mm
     from swiftfin.core.errors import BuildError, UserError
     from swiftfin.core.params import replace_key
@@ -1202,8 +1211,22 @@ def _sized_as_a_designer_would(p: Params) -> Params:
         return p
 
     p = first_made("hull.screw_diameter_mm", screw_diameters_mm(), wall_fixings)
-    return first_made("environment.flotation_foam_segments",
-                      range(p.environment.flotation_foam_segments, -1, -1), foam_blocks)
+    p = first_made("environment.flotation_foam_segments",
+                   range(p.environment.flotation_foam_segments, -1, -1), foam_blocks)
+    return replace_key(p, "hull.cable_gland_length_mm", gland_length_needed_mm(p))
+
+
+def gland_length_needed_mm(p: Params) -> float:
+    """The cable glands' packed length a designer would give the design: its longest stroke (moment arm x stop
+    angle) plus the grease plug that holds its design depth with the seal table's safety factor, rounded up to the
+    millimetre (within the key's range)."""
+    from swiftfin.layout.geometry import joint_stop_angles_rad
+    g = cable_gland()
+    stroke = p.joints.tendon_moment_arm_mm * max(joint_stop_angles_rad(p))
+    env = p.environment
+    plug = (g.pressure_safety_factor * env.water_density_kg_m3 * env.gravity_m_s2 * env.design_depth_m
+            * g.radial_gap_mm / (2.0 * g.grease_yield_stress_pa))
+    return float(min(60.0, max(2.0, math.ceil(stroke + plug))))
 
 
 def seeded_designs(n: int, seed: int = 16, check_layout: bool = True, max_draws: int | None = None) -> list[Params]:

@@ -13,6 +13,7 @@ since each has its own cut length). Sources of the lines:
 * crimp sleeves (``catalogues/cable_parts.toml``): one at each end of every cable side;
 * PTFE tube pieces by cut length (:func:`swiftfin.cad.cables.tube_runs`, mouth to seat), the total to buy, and the
   epoxy that bonds them in (``catalogues/adhesives.toml``);
+* what closes the dry wall (:func:`seal_lines`): the cable glands' sleeves and grease, the screws' sealant;
 * extra lines a part family declares (``PartSpec.meta["bom"]``: a list of dicts with the BomLine fields), e.g. a
   tensioner's bought pieces;
 * the trim ballast (lead), from the mass model when the build computed one.
@@ -159,6 +160,38 @@ def tube_lines(p: Params) -> list[BomLine]:
     return out
 
 
+def seal_lines(p: Params) -> list[BomLine]:
+    """What closes the dry compartment's wall (catalogues/seals.toml): per cable gland a close PTFE sleeve cut to the
+    gland's packed length, the grease packed round the cables, and the sealant the screws through the wall are
+    bedded in. The glands' tubes themselves are PTFE tube pieces above (``tube_hull_...``)."""
+    from swiftfin.cad.dry_check import bedded_screws, cable_glands
+    from swiftfin.catalogues.seals import cable_gland, seal_item
+
+    glands = cable_glands(p)
+    out = []
+    if glands:
+        g = cable_gland()
+        d = p.cable.diameter_mm
+        sleeve = (f"PTFE capillary tube, {d + g.sleeve_diametral_clearance_mm:.1f} mm ID x "
+                  f"{p.guides.ptfe_tube_id_mm:g} mm OD (pressed into the gland's tube)")
+        groups: dict[float, list[str]] = {}
+        for c in glands:
+            cut = math.floor(c.packed_mm / TUBE_CUT_STEP_MM + 1e-9) * TUBE_CUT_STEP_MM
+            groups.setdefault(cut, []).append(c.label)
+        out += [BomLine("Cable gland sleeve", f"{sleeve}, cut {cut:g} mm", len(labels), "pcs", _where(labels),
+                        "catalogues/seals.toml [cable_gland] (packed length: cad.dry_check.cable_glands)")
+                for cut, labels in sorted(groups.items())]
+        out.append(BomLine("Grease", g.grease, 1, "pcs", "packed round each cable in its gland's sleeve",
+                           "catalogues/seals.toml [cable_gland]"))
+    screws = [c.label for c in bedded_screws(p)]
+    if screws:
+        row = seal_item("bedded_screw")
+        out.append(BomLine("Sealant", row["sealant"], 1, "pcs",
+                           f"under the head and along the thread of the {len(screws)} screws through the dry wall",
+                           row["source"]))
+    return out
+
+
 def bought_part_lines(p: Params, specs) -> list[BomLine]:
     groups: dict[tuple, list] = {}
     placeholders = {c.name for c in p.components if c.name == "fasteners"}
@@ -204,7 +237,7 @@ def ballast_lines(mass_properties: dict | None) -> list[BomLine]:
 def bom_lines(p: Params, specs, fasteners, mass_properties: dict | None = None) -> list[BomLine]:
     """Every bought item of the build (see the module docstring)."""
     return (bought_part_lines(p, specs) + fastener_lines(fasteners) + cable_lines(p) + crimp_lines(p)
-            + tube_lines(p) + declared_lines(specs) + ballast_lines(mass_properties))
+            + tube_lines(p) + seal_lines(p) + declared_lines(specs) + ballast_lines(mass_properties))
 
 
 def bom_csv(lines) -> str:

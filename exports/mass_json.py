@@ -70,9 +70,11 @@ def report_to_dict(params: Params, report) -> dict:
                   "displaced_volume_m3": report.displaced_volume_m3,
                   "displaced_volume_note": (
                       "sealed links (ahead of hull.flooded_from_joint = "
-                      f"{params.hull.flooded_from_joint}): their closed outer envelope, plus the caudal fin behind "
-                      "the hull end; flooded links: the solid volume of their parts only (printed parts are closed "
-                      "shells), the water inside them moves with them (links[].entrained_water)"),
+                      f"{params.hull.flooded_from_joint}): their closed outer envelope up to the dry "
+                      "compartment's rear wall (behind it, in the joint gap: only the solids), "
+                      "plus the caudal fin behind the hull end; flooded links: the solid volume of their parts only "
+                      "(printed parts are closed shells); the water inside a flooded link or its joint gap moves with it "
+                      "(links[].entrained_water)"),
                   "cob_m": list(report.cob_m), "buoyancy_n": report.buoyancy_n, "weight_n": report.weight_n,
                   "net_buoyancy_n": report.buoyancy_n - report.weight_n,
                   "neutral_mass_kg": report.buoyancy_n / g,

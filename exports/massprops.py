@@ -52,7 +52,7 @@ from swiftfin.exports.line_masses import (  # noqa: F401
     cable_masses, fastener_masses, link_of_station, ptfe_tube_masses,
     rod_inertial)
 from swiftfin.exports.water import (  # noqa: F401
-    _ballast_part, _fin_outside_volume, _outside_piece, envelope_inertial, envelope_section_mm, envelope_volume_mm3,
+    _ballast_part, _fin_outside_volume, _outside_piece, behind_dry_wall, envelope_inertial, envelope_section_mm, envelope_volume_mm3,
     trim_ballast)
 from swiftfin.exports.mass_gate import GATE_MESH_REL_TOL, _inside_box, check_tensor, validate  # noqa: F401
 from swiftfin.exports.mass_json import PAPER_MASS_KG, _inertial_dict, report_to_dict  # noqa: F401
@@ -169,19 +169,31 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
     rho_w = params.environment.water_density_kg_m3
     flooded = tuple(j >= params.hull.flooded_from_joint for j in range(len(bounds) - 1))
     V_fin, c_fin, fin_link, fin_pieces = _fin_outside_volume(params, parts, memo, meshes)
+    # the last sealed link ends at its dry wall's back face: behind it (the joint gap) only solids displace water
+    gap_link, s_wall, gap_pieces = behind_dry_wall(params, parts, memo, meshes)
 
     def displacement(items: list[PartMass]):
         link_V, link_cob, water = [], [], []
         for j in range(len(bounds) - 1):
             if not flooded[j]:
-                V, s_c = envelope_volume_mm3(params, bounds[j], bounds[j + 1])
+                s_dry = s_wall if j == gap_link else bounds[j + 1]
+                V, s_c = envelope_volume_mm3(params, bounds[j], s_dry)
                 cob = np.array([-s_c, 0.0, 0.0])
+                w = None
+                if j == gap_link:    # the solids in the joint gap (lugs, stops) displace their own volume; the
+                    #                  water round them moves with the link
+                    for pr in gap_pieces:
+                        cob = (V * cob + pr.volume_mm3 * np.asarray(pr.centroid_mm)) / (V + pr.volume_mm3)
+                        V += pr.volume_mm3
+                    w = combine([envelope_inertial(params, s_wall, bounds[j + 1], rho_w),
+                                 *[pr.inertial(-rho_w) for pr in gap_pieces]])
+                    check_tensor(f"water inside link {j} behind its dry wall", w.inertia, w.mass_kg)
                 if V_fin > 0 and j == fin_link:
                     cob = (V * cob + V_fin * c_fin) / (V + V_fin)
                     V += V_fin
                 link_V.append(V)
                 link_cob.append(cob)
-                water.append(None)
+                water.append(w)
                 continue
             mine = [pt for pt in items if pt.link == j and pt.volume_solid_m3 > 0]
             V_m3 = sum(pt.volume_solid_m3 for pt in mine)

@@ -195,8 +195,17 @@ def hull_pieces(p: Params) -> tuple[HullPiece, ...]:
 
 
 def cavity_range_mm(p: Params, pc: HullPiece) -> tuple[float, float]:
-    """Stations [s0, s1] of the piece's hollow: inside its bulkheads, behind the nose cap, ahead of the fin's
-    socket; an open (cut) end runs 1 mm past the piece."""
+    """Stations [s0, s1] of the piece's hollow: inside its bulkheads (ahead of the dry compartment's rear wall,
+    :func:`dry_bulkhead`), behind the nose cap, ahead of the fin's socket; an open (cut) end runs 1 mm past the
+    piece."""
+    s0, s1 = _cavity_range(p, pc)
+    dry = dry_bulkhead(p) if not flooded(p, pc.link) else None
+    if dry is not None and dry.piece == pc.name:
+        s1 = min(s1, dry.s_front_mm)
+    return s0, s1
+
+
+def _cavity_range(p: Params, pc: HullPiece) -> tuple[float, float]:
     t = p.hull.bulkhead_thickness_mm
     if pc.nose:
         s0 = nose_cap(p).s_cap_mm
@@ -211,6 +220,45 @@ def cavity_range_mm(p: Params, pc: HullPiece) -> tuple[float, float]:
     else:
         s1 = pc.s_end_mm + 1.0
     return s0, s1
+
+
+def clevis_room_reach_mm(p: Params, joint: int) -> float:
+    """How far ahead of joint ``joint``'s axis the room its parent's rear end leaves for the link reaches (mm): the
+    largest of the sector's, knuckle's and tongue's radii plus ``print.clearance_assembly_mm``
+    (:func:`swiftfin.cad.clevis.clevis_cut` cuts those cylinders)."""
+    h = joint_hardware(p, joint)
+    return max(h.sector_radius_mm, h.knuckle_radius_mm, h.tongue_radius_mm) + p.print.clearance_assembly_mm
+
+
+@dataclass(frozen=True)
+class DryBulkhead:
+    """The wall that closes the dry compartment at the rear (stations, mm): the rear end of the last sealed piece,
+    solid from ``s_front_mm`` to the piece's end ``s_back_mm``. It is as thick as the cable glands need
+    (``hull.cable_gland_length_mm`` of potted tube plus its seat's shoulder, and never thinner than
+    ``hull.bulkhead_thickness_mm``), so each cable's gland runs through solid wall; joint ``rear_joint``'s clevis room
+    is a pocket in its back face, and the cables that cross the joint on its hinge line leave through the back face
+    (:func:`swiftfin.cad.hull.bulkhead_passages`)."""
+    piece: str
+    rear_joint: int | None
+    s_front_mm: float
+    s_back_mm: float
+
+    @property
+    def s_dry_end_mm(self) -> float:
+        """Where the dry cavity ends (the wall's front face)."""
+        return self.s_front_mm
+
+
+def dry_bulkhead(p: Params) -> DryBulkhead | None:
+    """The rear wall of the dry compartment (:class:`DryBulkhead`), None when no hull piece is sealed."""
+    sealed = [pc for pc in hull_pieces(p) if not flooded(p, pc.link)]
+    if not sealed:
+        return None
+    last = max(sealed, key=lambda pc: pc.s_end_mm)
+    if last.rear_joint is None:              # the whole hull is sealed: the fin socket's plug closes it
+        return DryBulkhead(last.name, None, _cavity_range(p, last)[1], last.s_end_mm)
+    thick = max(p.hull.bulkhead_thickness_mm, p.hull.cable_gland_length_mm + L.tube_seat_shoulder_mm(p))
+    return DryBulkhead(last.name, last.rear_joint, last.s_end_mm - thick, last.s_end_mm)
 
 
 def flooded(p: Params, link: int) -> bool:

@@ -55,6 +55,7 @@ class BuildResult:
     check_time_s: float = 0.0
     assembly_stats: dict = field(default_factory=dict)
     fastener_report: object = None     # cad.fastener_check.FastenerReport
+    dry_report: object = None          # cad.dry_check.DryReport
     assembly_plan: object = None       # cad.assembly_steps.Plan
     cable_stats: dict = field(default_factory=dict)   # the cables' and tubes' proof (empty: not a whole build)
     calibration: object = None         # core.calibration.Calibration the build applied (None: none given)
@@ -249,6 +250,7 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
     result.assembly_stats = check_assembly(result.params, placed, progress=progress, passed=passed)
     result.cable_stats = check_cables_built(result, placed, passed, progress)
     result.fastener_report = check_fasteners_built(result, placed)
+    result.dry_report = check_dry_wall_built(result, placed)
     result.assembly_plan = plan_assembly(result, placed, cache, progress)
     result.check_time_s = time.perf_counter() - t0
 
@@ -312,6 +314,24 @@ def plan_assembly(result: BuildResult, placed=None, cache: FamilyCache | None = 
     return memo("assembly_steps", tuple(sorted(q.label for q in placed)),
                 [to_dict(result.params), sorted(f.label for f in fasteners)],
                 lambda: plan_steps(result.params, placed, fasteners, glued, memo=paths))
+
+
+def check_dry_wall_built(result: BuildResult, placed=None):
+    """The dry compartment closed on the built solids (cad/dry_check.py): every opening through its wall a declared
+    sealed crossing, every cable gland longer than its cable's stroke. BuildError names the part, the opening's
+    place and size, or the gland. None when the sealed hull parts were not all built (or none is sealed)."""
+    from swiftfin.cad.dry_check import check_dry_wall, dry_wall_problems, sealed_part_labels
+
+    placed = placed_parts(result) if placed is None else placed
+    mans = {q.label: q.manifold for q in placed}
+    labels = sealed_part_labels(result.params)
+    if not labels or not set(labels) <= set(mans):
+        return None
+    report = check_dry_wall(result.params, mans)
+    problems = dry_wall_problems(result.params, report)
+    if problems:
+        raise BuildError("the dry compartment is not closed:\n" + "\n".join(f"  - {pr}" for pr in problems))
+    return report
 
 
 def check_fasteners_built(result: BuildResult, placed=None):
@@ -523,6 +543,9 @@ def summary_table(result: BuildResult) -> str:
                  f"{w.fastener} in {w.part}" if w is not None else "")
         lines.append(f"fastener checks passed: {len(fr.fasteners)} fasteners ({what}) in "
                      f"{len(fr.per_part())} parts, walls, engagement, lengths and drivers' paths{worst}")
+    dr = result.dry_report
+    if dr is not None:
+        lines.append(dry_wall_summary(result.params, dr))
     plan = result.assembly_plan
     if plan is not None:
         parts = sum(len(s.parts) for s in plan.steps)
@@ -533,6 +556,22 @@ def summary_table(result: BuildResult) -> str:
                      f"({plan.pair_checks} part pairs along them{rem}); {len(plan.notes)} part(s) not along their "
                      f"family's usual direction (see report.html)")
     return "\n".join(lines)
+
+
+def dry_wall_summary(p: Params, dr) -> str:
+    from swiftfin.design_rules.rules import gland_rating_m
+
+    worst = min(dr.glands, key=lambda g: gland_rating_m(p, g.packed_mm, g.stroke_mm), default=None)
+    glands = "no cable gland"
+    if worst is not None:
+        rated = gland_rating_m(p, worst.packed_mm, worst.stroke_mm)
+        depth = p.environment.design_depth_m
+        glands = (f"{len(dr.glands)} cable glands (the least rated to {rated:.2f} m, "
+                  f"{'BELOW' if rated < depth else 'over'} the design depth {depth:g} m: {worst.label}, "
+                  f"{worst.packed_mm:.1f} mm packed, stroke {worst.stroke_mm:.1f} mm)")
+    return (f"dry wall closed: {len(dr.openings)} openings through it, each a declared sealed crossing: {glands}, "
+            f"{len(dr.screws)} screws bedded in sealant; NOT yet sealed: the parting seams between the head's "
+            f"halves and pieces (see the README, 'The dry compartment')")
 
 
 def stderr_progress(msg: str) -> None:
@@ -561,16 +600,22 @@ def swim_results(mjcf_path: Path, params: Params, jobs: int | None = 1, duration
              "slip_reactive": by[(f, True)] / (f * lam)} for f in SWIM_FREQUENCIES_HZ]
 
 
-def report_findings(params: Params, parts, mass_properties: dict | None, calibration=None) -> tuple[list, list]:
+def report_findings(params: Params, parts, mass_properties: dict | None, calibration=None,
+                    dry_report=None) -> tuple[list, list]:
     """What the report shows and does not compute: the design rules' findings (with the build's mass properties
-    and the printed parts' boxes when there are any) and the paper audit's entries."""
+    and the printed parts' boxes when there are any, and the built cable glands' ratings when the build checked
+    its dry wall) and the paper audit's entries."""
     from swiftfin.design_rules import design_findings
     from swiftfin.design_rules.paper_audit import audit_entries
+    from swiftfin.design_rules.rules import built_gland_finding
     from swiftfin.report.html import as_report_part
 
     rparts = [as_report_part(x) for x in parts] if parts else []
     boxes = {x.label: x.print_size_mm for x in rparts if x.printed and x.print_size_mm}
-    return design_findings(params, mass_properties, boxes, calibration), list(audit_entries())
+    findings = design_findings(params, mass_properties, boxes, calibration)
+    if dry_report is not None:
+        findings = [*findings, built_gland_finding(params, dry_report.glands)]
+    return findings, list(audit_entries())
 
 
 def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
@@ -589,7 +634,8 @@ def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
             mp, note = json.loads(mpath.read_text()), f"From {MASS_PROPERTIES_NAME} in this build."
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
             note = f"{MASS_PROPERTIES_NAME} in this build is not readable JSON ({exc})."
-    findings, audit = report_findings(result.params, result.parts, mp, result.calibration)
+    findings, audit = report_findings(result.params, result.parts, mp, result.calibration,
+                                      getattr(result, "dry_report", None))
     rules_note = ""
     if result.calibration is not None:
         rules_note = (f"Evaluated with the measured values of {CALIBRATION_NAME} (a copy of "

@@ -187,12 +187,12 @@ def test_a_bad_bench_file_is_refused_by_synth_and_fit(tmp_path, text, expected, 
 
 @pytest.mark.parametrize("inertia", [1.2e-4, 6e-6, 1.5e-3])
 def test_a_bench_file_changes_the_simulated_and_the_modelled_link(tmp_path, p, inertia):
-    """A bench holding another link than the design's tail (2.08e-4 kg m^2 about hinge 4, in air) rings at another
+    """A bench holding another link than the design's tail (2.10e-4 kg m^2 about hinge 4, in air) rings at another
     frequency: simulated with it and fitted without the bench file, the fit finds the link's inertia (lighter or
     heavier than the design's) and the difference as an added inertia; fitted with the bench file, nothing."""
     from swiftfin.calibration.joint import joint_design
     prior = joint_design(p).link_inertia_kg_m2
-    assert prior == pytest.approx(2.08e-4, rel=0.01)        # the design's link 4 and fin, thin-shell estimate
+    assert prior == pytest.approx(2.10e-4, rel=0.01)        # the design's link 4 and fin, thin-shell estimate
     bench = tmp_path / "bench.toml"
     bench.write_text(f"link_inertia_kg_m2 = {inertia!r}\n")
     assert main(["synth", "joint", "--out", str(tmp_path / "log.csv"), "--bench", str(bench), "--seed", "2"]) == 0

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import pytest
 
-from swiftfin.cad.dry_check import Opening, sealed_part_labels, wall_openings, wall_zone
+from swiftfin.cad.dry_check import (Opening, check_dry_wall, dry_wall_problems, sealed_part_labels, wall_openings,
+                                     wall_zone)
 
 
 @pytest.fixture(scope="module")
@@ -69,10 +70,104 @@ def test_a_drilled_hole_and_a_blind_pocket_are_found_where_they_are(default_para
     assert "pocket in the dry wall" in str(blind) and "opening through the dry wall" in str(through)
 
 
-def test_the_default_heads_openings_are_listed(default_params, sealed):
-    """What floods the default head today (issue 13): its cuts through the dry wall, each with its part and place.
-    The largest is the window the clevis cut leaves in the rear bulkhead."""
-    ops = [o for o in wall_openings(default_params, _mans(sealed, default_params)) if o.through]
-    assert ops, "the default head has no opening in its dry wall"
-    biggest = max(ops, key=lambda o: o.volume_mm3)
-    assert isinstance(biggest, Opening) and biggest.part.startswith("hull_head")
+def test_every_opening_of_the_default_dry_wall_is_a_declared_sealed_crossing(default_params, sealed):
+    """The default head's dry wall on the built solids: its openings are the eight cable glands through the rear
+    wall and the screws through the shell (mount wall fixings, splice screws), each bedded; nothing else. The
+    window the clevis cut used to leave in the rear bulkhead is gone."""
+    p = default_params
+    rep = check_dry_wall(p, _mans(sealed, p))
+    assert not rep.unsealed and not dry_wall_problems(p, rep)
+    assert len(rep.glands) == 2 * p.joints.count
+    by = {b for _, b in rep.sealed}
+    assert {g.label for g in rep.glands} <= {lb.strip() for b in by for lb in b.split(",")}
+    screws = [c.label for c in rep.screws]
+    assert any("splice" in lb for lb in screws) and any("wall" in lb for lb in screws)
+    assert len(rep.openings) == len(rep.sealed)
+    for g in rep.glands:          # every gland's potted tube is longer than its cable's stroke
+        assert g.packed_mm > g.stroke_mm, g
+
+
+def test_a_section_through_the_rear_wall_is_closed_but_for_the_glands(default_params, sealed):
+    """The issue's own test: a section through the dry compartment's rear wall is material everywhere inside the
+    hull's outline but the glands' bores (their oblique sections, within 25 %)."""
+    import math
+
+    import trimesh
+    from swiftfin.layout.geometry import tube_bore_diameter_mm
+    from swiftfin.layout.hull_plan import dry_bulkhead, hull_section_semi_axes_mm
+
+    p = default_params
+    dry = dry_bulkhead(p)
+    s = dry.s_front_mm + 1.5
+    area = 0.0
+    for label, spec in sealed.items():
+        m = tessellate_mesh(spec, p)
+        sec = m.section(plane_origin=(-s, 0.0, 0.0), plane_normal=(1.0, 0.0, 0.0))
+        if sec is None:
+            continue
+        planar, _ = sec.to_2D()
+        area += planar.area
+    a, b = hull_section_semi_axes_mm(p, s)
+    r = tube_bore_diameter_mm(p, "bulkhead") / 2
+    bores = 2 * p.joints.count * math.pi * r * r
+    missing = math.pi * a * b - area
+    assert bores * 0.9 < missing < bores * 1.25, (missing, bores)
+
+
+def tessellate_mesh(spec, p):
+    import trimesh
+    from swiftfin.exports.brep import tessellate
+    m = tessellate(spec.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
+    return trimesh.Trimesh(m.vertices, m.faces)
+
+
+def test_a_hole_drilled_in_the_dry_wall_refuses_the_build_with_its_part_and_place(default_params, sealed):
+    """A test-only 3 mm hole along the body through the rear wall, away from every gland: the build's dry-wall
+    check refuses it, naming the part and the hole's position."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    from swiftfin import pipeline
+    from swiftfin.cad.assembly import Placed
+    from swiftfin.cad.kernel import bd
+    from swiftfin.core.errors import BuildError
+    from swiftfin.exports.brep import tessellate
+    from swiftfin.layout.hull_plan import dry_bulkhead
+
+    p = default_params
+    dry = dry_bulkhead(p)
+    label = next(lb for lb in sealed if lb.startswith(dry.piece) and lb.endswith("_lower"))
+    y, z = -15.0, -25.0                            # low in the wall: the glands are all above the seam
+    hole = bd.Solid.make_cylinder(1.5, dry.s_back_mm - dry.s_front_mm + 4.0,
+                                  bd.Plane(origin=(-dry.s_front_mm + 2.0, y, z), z_dir=(-1, 0, 0)))
+    specs = dict(sealed)
+    specs[label] = replace(sealed[label], solid=sealed[label].solid.cut(hole))
+    placed = []
+    for lb, spec in specs.items():
+        m = tessellate(spec.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
+        placed.append(Placed(lb, 0, "hull", m.vertices, m.faces))
+    with pytest.raises(BuildError) as err:
+        pipeline.check_dry_wall_built(SimpleNamespace(params=p), placed)
+    msg = str(err.value)
+    assert "the dry compartment is not closed" in msg and label in msg and "not a declared sealed crossing" in msg
+    line = next(ln for ln in msg.splitlines() if label in ln)
+    x_c, y_c, z_c = (float(v) for v in line.split(" at (")[1].split(")")[0].split(","))
+    assert y_c == pytest.approx(y, abs=0.5) and z_c == pytest.approx(z, abs=0.5)
+    assert -dry.s_back_mm <= x_c <= -dry.s_front_mm
+
+
+def test_a_wall_too_thin_for_the_clevis_room_reopens_the_window_and_is_refused(default_params):
+    """The defect this check was written for: with glands of 2 mm the rear wall is the 3 mm bulkhead again, joint
+    1's clevis room cuts through it, and the build refuses the window with its part and place."""
+    from swiftfin.cad.hull import make_hull_segments
+    from swiftfin.cad.registry import family_function
+    from swiftfin.core.params import replace_key
+
+    p = replace_key(default_params, "hull.cable_gland_length_mm", 2.0)
+    parts = {s.label: s for s in family_function("hull")(p) if s.label in sealed_part_labels(p)}
+    rep = check_dry_wall(p, _mans(parts, p))
+    problems = dry_wall_problems(p, rep)
+    window = [o for o in rep.unsealed if o.volume_mm3 > 300]
+    assert window and window[0].part.startswith("hull_head_rear"), rep.unsealed
+    assert any("not a declared sealed crossing" in pr for pr in problems)
+    assert any("no longer than the cable's stroke" in pr for pr in problems)

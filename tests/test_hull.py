@@ -104,7 +104,7 @@ def test_half_width_and_height_on_the_brep_equal_the_naca_formula(hull_parts, s_
     tol = 0.1   # loft (B-spline through hull.loft_stations sections) + bounding-box tolerance
     assert bb.max.Y == pytest.approx(yt, abs=tol)
     assert -bb.min.Y == pytest.approx(yt, abs=tol)
-    assert bb.max.Z == pytest.approx(1.5 * yt, abs=1.5 * tol)
+    assert bb.max.Z == pytest.approx(P.body.height_to_width * yt, abs=1.6 * tol)
 
 
 def test_nose_cap_is_tangent_to_the_naca_curve_and_measured_on_the_solid(hull_parts):
@@ -123,7 +123,7 @@ def test_nose_cap_is_tangent_to_the_naca_curve_and_measured_on_the_solid(hull_pa
     bb = slab_extent(solid, sc / 2)
     v = (cap.a_mm - sc / 2) / cap.a_mm
     assert bb.max.Y == pytest.approx(cap.b_mm * math.sqrt(1 - v * v), abs=0.02)
-    assert bb.max.Z == pytest.approx(1.5 * cap.b_mm * math.sqrt(1 - v * v), abs=0.03)
+    assert bb.max.Z == pytest.approx(P.body.height_to_width * cap.b_mm * math.sqrt(1 - v * v), abs=0.03)
 
 
 def _clear_station_mm(piece_name: str) -> float:
