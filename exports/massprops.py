@@ -53,7 +53,7 @@ from swiftfin.exports.line_masses import (  # noqa: F401
     rod_inertial)
 from swiftfin.exports.water import (  # noqa: F401
     _ballast_part, _fin_outside_volume, _outside_piece, behind_dry_wall, envelope_inertial, envelope_section_mm, envelope_volume_mm3,
-    trim_ballast)
+    trim_ballast, ballast_height)
 from swiftfin.exports.mass_gate import GATE_MESH_REL_TOL, _inside_box, check_tensor, validate  # noqa: F401
 from swiftfin.exports.mass_json import PAPER_MASS_KG, _inertial_dict, report_to_dict  # noqa: F401
 
@@ -219,6 +219,9 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
         dry = combine([pt.inertial for pt in out])
         trim.update(trim_ballast(params, dry.mass_kg, dry.com, V_m3, cob0, flooded))
         if trim.get("possible"):
+            j = int(trim["link"])
+            carried = [pt.inertial for pt in out if pt.link == j] + ([water[j]] if water[j] is not None else [])
+            trim = ballast_height(trim, combine(carried))
             out.append(_ballast_part(params, trim))
             link_V, link_cob, water = displacement(out)
     links_idx = sorted({pt.link for pt in out})

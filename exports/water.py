@@ -63,7 +63,7 @@ def envelope_inertial(p: Params, s0_mm: float, s1_mm: float, density_kg_m3: floa
 
 def trim_ballast(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, flooded_links) -> dict:
     """The lead ballast that makes the fish neutral (weight = buoyancy) and level (COM under the COB), placed on
-    the hull floor (its lowest inside point, for the largest righting lever).
+    the hull's vertical plane of symmetry (its height: :func:`ballast_height`).
 
     Neutral: ``M + m = rho_w (V + v)`` with ``v = m / rho_b`` when the ballast sits in a flooded link (it
     displaces water) and ``v = 0`` in a sealed one. Level: ``(M x_com + m x) / (M + m) = (V x_cob + v x) / (V + v)``,
@@ -96,8 +96,55 @@ def trim_ballast(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, floo
         return {**out, "possible": False,
                 "reason": f"the ballast would have to sit at station {s_mm:.0f} mm ({s_mm / p.body.length_mm:.3f} L), "
                           f"{'outside the hull' if not (s_lo < s_mm < s_hi) else 'where a sphere of it does not fit'}"}
-    z_m = -units.length_m(float(b) - p.hull.wall_thickness_mm - r_mm)
-    return {**out, "possible": True, "z_m": float(z_m)}
+    z_room_mm = _vertical_room_mm(float(a), float(b), p.hull.wall_thickness_mm + r_mm)
+    return {**out, "possible": True, "z_m": float(-units.length_m(z_room_mm)),
+            "z_room_m": float(units.length_m(z_room_mm))}
+
+
+def _vertical_room_mm(a_mm: float, b_mm: float, clear_mm: float) -> float:
+    """How far up (or down) the vertical axis of an elliptic section (half-width a, half-height b) a point can
+    sit and stay ``clear_mm`` from the outline (bisection on the distance to the sampled ellipse; on a tall
+    section the sides, not the crown, stop a sphere first). 0 when the centre itself is not clear."""
+    t = np.linspace(0.0, np.pi, 2001)
+    ex, ez = a_mm * np.sin(t), b_mm * np.cos(t)
+
+    def clear(z: float) -> bool:
+        return float(np.min(np.hypot(ex, ez - z))) >= clear_mm
+
+    if not clear(0.0):
+        return 0.0
+    lo, hi = 0.0, b_mm
+    for _ in range(50):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if clear(mid) else (lo, mid)
+    return lo
+
+
+def ballast_height(trim: dict, link_inertial) -> dict:
+    """Height of the trim ballast: where it adds no yaw-roll coupling to the link that carries it.
+
+    The trim fixes the ballast's mass and station (:func:`trim_ballast`); its height is free inside the hull.
+    On the floor it gives the largest righting lever, but a lead far forward (or aft) of its link's centre of
+    mass and low gives the link a product of inertia ``I_xz``: its principal axes tilt, a yaw torque (every
+    tail beat's recoil) then rolls it in phase, and the rectified ``(I_xx - I_zz) w_x w_z`` pitches the
+    swimming fish (MuJoCo, default design: head ``I_xz`` 3.2e-4 kg m^2 -> 20.7 deg nose down at 3 Hz; 0 ->
+    2.5 deg). So the ballast sits at the height where its link's ``I_xz`` about the link's new COM is zero,
+    ``z = z_L + I_xz,L / (mu dx)`` (``mu`` the reduced mass of link and ballast, ``dx`` the ballast's station
+    less the link's COM; off-diagonal parallel-axis term ``-mu dx dz``), held inside the section's room
+    (``trim['z_room_m']`` either side of the axis): where the room does not reach, as near as it gets.
+    Returns the trim updated with ``z_m`` and the link's ``I_xz`` on the floor and at the chosen height."""
+    m, x_b = float(trim["mass_kg"]), float(trim["x_m"])
+    M, c, I = link_inertial.mass_kg, link_inertial.com, link_inertial.inertia
+    mu, dx = M * m / (M + m), x_b - float(c[0])
+    room = float(trim["z_room_m"])
+
+    def ixz(z: float) -> float:
+        return float(I[0, 2] - mu * dx * (z - float(c[2])))
+
+    floor = -room
+    z = floor if abs(mu * dx) < 1e-12 else float(np.clip(float(c[2]) + I[0, 2] / (mu * dx), -room, room))
+    return {**trim, "z_m": z, "z_floor_m": floor, "link_ixz_on_floor_kg_m2": ixz(floor),
+            "link_ixz_kg_m2": ixz(z)}
 
 
 def _ballast_part(p: Params, trim: dict) -> PartMass:

@@ -347,6 +347,52 @@ def test_trim_ballast_makes_the_fish_neutral_and_level(default_params, ballast_l
     assert t["z_m"] < 0                                  # on the hull floor
 
 
+def _sphere(m, c, r):
+    return mp.make_inertial(m, c, 0.4 * m * r * r * np.eye(3))
+
+
+@pytest.mark.parametrize("ixz", [3.2e-4, -1.5e-4, 4e-3])
+def test_ballast_height_zeroes_its_links_product_of_inertia(ixz):
+    """The ballast goes where its link (a body with a given I_xz) and it have no product of inertia about
+    their common COM, checked by summing the two bodies here with the parallel-axis sum (combine); where the
+    room does not reach that height, it sits at the room's edge on the side that helps, and does better than
+    the floor."""
+    link = mp.make_inertial(1.5, (-0.15, 0.0, -0.008), [[1.1e-3, 0, ixz], [0, 7.8e-3, 0], [ixz, 0, 7.4e-3]])
+    m, r = 0.056, 0.0106
+    trim = {"mass_kg": m, "x_m": -0.052, "z_room_m": 0.036, "sphere_radius_mm": 1000 * r}
+    t = mp.ballast_height(trim, link)
+    both = mp.combine([link, _sphere(m, (trim["x_m"], 0.0, t["z_m"]), r)])
+    floor = mp.combine([link, _sphere(m, (trim["x_m"], 0.0, -0.036), r)])
+    assert -0.036 <= t["z_m"] <= 0.036
+    assert t["link_ixz_kg_m2"] == pytest.approx(both.inertia[0, 2], abs=1e-12)
+    assert t["link_ixz_on_floor_kg_m2"] == pytest.approx(floor.inertia[0, 2], abs=1e-12)
+    if abs(t["z_m"]) < 0.036 - 1e-12:
+        assert abs(both.inertia[0, 2]) < 1e-12 * abs(ixz) + 1e-15
+    else:                                                # out of reach (4e-3): as near as the room allows
+        assert abs(both.inertia[0, 2]) < abs(floor.inertia[0, 2]) or t["z_m"] == -0.036
+        assert abs(both.inertia[0, 2]) < abs(ixz)
+
+
+def test_the_default_ballast_leaves_its_link_without_yaw_roll_coupling(default_robot, default_params):
+    """Default design: the trim ballast's link (the head), with the water it carries (the body MuJoCo moves), has
+    I_xz ~ 0 about its COM (on the hull floor it would be ~3e-4 kg m^2: the swimming fish then pitched 20 deg
+    in MuJoCo), and the lead sphere
+    is inside the hull, clear of the outer skin by at least a wall (distance to the sampled outline)."""
+    p = default_params
+    _, res = default_robot
+    rep = res["report"]
+    t = rep.trim
+    wet = res["robot"].links[t["link"]].in_water(p.environment.water_density_kg_m3)[0]
+    I = wet.inertia
+    assert abs(I[0, 2]) < 1e-3 * I[1, 1]
+    assert abs(t["link_ixz_on_floor_kg_m2"]) > 10 * abs(I[0, 2])
+    s_mm = -1000 * t["x_m"]
+    a, b = (float(v) for v in mp.envelope_section_mm(p, s_mm))
+    th = np.linspace(0, 2 * np.pi, 3600)
+    d = np.hypot(a * np.cos(th), b * np.sin(th) - 1000 * t["z_m"]).min()
+    assert d >= t["sphere_radius_mm"] + p.hull.wall_thickness_mm - 1e-3
+
+
 def test_trim_ballast_refuses_a_sinking_fish(default_params):
     t = mp.trim_ballast(default_params, 2.0, (-0.17, 0, 0), 1.5e-3, (-0.17, 0, 0), (False,) * 5)
     assert not t["possible"] and "sinks" in t["reason"]
