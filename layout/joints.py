@@ -309,6 +309,16 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     # anchor: past the tangent by stop + margin, but ahead of the child's bulkhead plane x - g2
     anchor_d = max(2.0, 2 * dc + 2 * cs)
     ra = max(rk + anchor_d / 2 + 1.0, 0.45 * m)
+    # the anchor's hole lies inside the groove's root, with two perimeters of wall between them
+    web_a = 2 * p.print.line_width_mm
+    if ra + anchor_d / 2 + web_a > m - dc / 2:
+        m_min = max(rk + anchor_d + 1.0 + web_a + dc / 2, (anchor_d / 2 + web_a + dc / 2) / 0.55)
+        problems.append(Problem(
+            "joints.tendon_moment_arm_mm", m,
+            f"joint {j}'s cable anchor does not fit inside its tendon groove: the {anchor_d:.1f} mm anchor hole at "
+            f"{ra:.2f} mm from the hinge (outside the {rk:.2f} mm knuckle) reaches {ra + anchor_d / 2:.2f} mm, the "
+            f"groove's root is at {m - dc / 2:.2f} mm and {web_a:.2f} mm of wall must separate them: a moment "
+            f"arm of at least {m_min:.2f} mm"))
     lim = -(g2 - rg - 0.5) / R_s
     a_lim = math.degrees(math.acos(max(-1.0, min(1.0, lim))))
     anchor = min(aT_max + th + WRAP_MARGIN_DEG, a_lim)

@@ -65,6 +65,9 @@ BAD_FILES = [
     ("[rules]\nstrouhal_min = 0.4\n", ["rules.strouhal_min = 0.4", "below rules.strouhal_max"]),
     ("[joints]\ncount = 2\nstations_fraction = [0.58, 0.72]\n", ["joints.tendon_moment_arm_mm",
                                                                   "tendon groove cannot wrap its stop angle"]),
+    # a seeded sweep drew a 4.5 mm arm: the anchor hole lay outside the groove and the link's cut came out empty
+    ("[joints]\ntendon_moment_arm_mm = 4.5\n", ["joints.tendon_moment_arm_mm = 4.5", "anchor does not fit inside",
+                                                 "a moment arm of at least"]),
 ]
 
 
