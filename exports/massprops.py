@@ -221,7 +221,12 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
         if trim.get("possible"):
             j = int(trim["link"])
             carried = [pt.inertial for pt in out if pt.link == j] + ([water[j]] if water[j] is not None else [])
-            trim = ballast_height(trim, combine(carried))
+            # clear of the solid parts inside (the hull's room is in z_room_m; cables, tubes and fasteners are
+            # summed per link here, their boxes the link's, and none runs through the nose's middle)
+            keep = [(pt.label, pt.bbox_m) for pt in out if pt.link == j
+                    and pt.family not in ("hull", "fin", "cable", "ptfe", "fastener")]
+            trim = ballast_height(trim, combine(carried), keep, params.print.clearance_assembly_mm * 1e-3)
+        if trim.get("possible"):
             out.append(_ballast_part(params, trim))
             link_V, link_cob, water = displacement(out)
     links_idx = sorted({pt.link for pt in out})

@@ -120,20 +120,25 @@ def _vertical_room_mm(a_mm: float, b_mm: float, clear_mm: float) -> float:
     return lo
 
 
-def ballast_height(trim: dict, link_inertial) -> dict:
-    """Height of the trim ballast: where it adds no yaw-roll coupling to the link that carries it.
+def ballast_height(trim: dict, link_inertial, keep_out=(), clearance_m: float = 0.0) -> dict:
+    """Height of the trim ballast: where it adds no yaw-roll coupling to the link that carries it, clear of the
+    other parts.
 
     The trim fixes the ballast's mass and station (:func:`trim_ballast`); its height is free inside the hull.
     On the floor it gives the largest righting lever, but a lead far forward (or aft) of its link's centre of
     mass and low gives the link a product of inertia ``I_xz``: its principal axes tilt, a yaw torque (every
     tail beat's recoil) then rolls it in phase, and the rectified ``(I_xx - I_zz) w_x w_z`` pitches the
     swimming fish (MuJoCo, default design: head ``I_xz`` 3.2e-4 kg m^2 -> 20.7 deg nose down at 3 Hz; 0 ->
-    2.5 deg). So the ballast sits at the height where its link's ``I_xz`` about the link's new COM is zero,
+    2.5 deg). So the ballast's height is where its link's ``I_xz`` about the link's new COM is zero,
     ``z = z_L + I_xz,L / (mu dx)`` (``mu`` the reduced mass of link and ballast, ``dx`` the ballast's station
-    less the link's COM; off-diagonal parallel-axis term ``-mu dx dz``), held inside the section's room
-    (``trim['z_room_m']`` either side of the axis): where the room does not reach, as near as it gets.
-    Returns the trim updated with ``z_m`` and the link's ``I_xz`` on the floor and at the chosen height."""
+    less the link's COM; off-diagonal parallel-axis term ``-mu dx dz``), or the nearest height to it that is
+    inside the section's room (``trim['z_room_m']`` either side of the axis) and keeps the sphere
+    ``clearance_m`` from the bounding box of every part in ``keep_out`` (``(label, ((x0, y0, z0), (x1, y1, z1)))``
+    in metres, body frame) that it would meet. ``I_xz(z)`` is linear, so the nearest height is the best one.
+    Returns the trim updated with ``z_m`` and the link's ``I_xz`` on the floor and at the chosen height, or
+    ``possible`` False with the reason when no height is free."""
     m, x_b = float(trim["mass_kg"]), float(trim["x_m"])
+    r = float(trim["sphere_radius_mm"]) * 1e-3
     M, c, I = link_inertial.mass_kg, link_inertial.com, link_inertial.inertia
     mu, dx = M * m / (M + m), x_b - float(c[0])
     room = float(trim["z_room_m"])
@@ -142,9 +147,23 @@ def ballast_height(trim: dict, link_inertial) -> dict:
         return float(I[0, 2] - mu * dx * (z - float(c[2])))
 
     floor = -room
-    z = floor if abs(mu * dx) < 1e-12 else float(np.clip(float(c[2]) + I[0, 2] / (mu * dx), -room, room))
-    return {**trim, "z_m": z, "z_floor_m": floor, "link_ixz_on_floor_kg_m2": ixz(floor),
-            "link_ixz_kg_m2": ixz(z)}
+    want = floor if abs(mu * dx) < 1e-12 else float(c[2]) + I[0, 2] / (mu * dx)
+    gap = r + clearance_m
+    blocked, names = [], []
+    for label, (lo, hi) in keep_out:
+        if lo[0] < x_b + gap and hi[0] > x_b - gap and lo[1] < gap and hi[1] > -gap:
+            blocked.append((lo[2] - gap, hi[2] + gap))
+            names.append(label)
+    free = [(-room, room)]                     # the room less every blocked band
+    for b0, b1 in blocked:
+        free = [piece for f0, f1 in free for piece in ((f0, min(f1, b0)), (max(f0, b1), f1)) if piece[1] > piece[0]]
+    if not free:
+        return {**trim, "possible": False,
+                "reason": f"no height at station {-1000 * x_b:.0f} mm holds the {1000 * r:.1f} mm lead sphere inside "
+                          f"the hull clear of {', '.join(names)}"}
+    z = min((float(np.clip(want, f0, f1)) for f0, f1 in free), key=lambda zz: abs(zz - want))
+    return {**trim, "z_m": z, "z_floor_m": floor, "z_wanted_m": want, "clear_of": tuple(names),
+            "link_ixz_on_floor_kg_m2": ixz(floor), "link_ixz_kg_m2": ixz(z)}
 
 
 def _ballast_part(p: Params, trim: dict) -> PartMass:

@@ -373,7 +373,25 @@ def test_ballast_height_zeroes_its_links_product_of_inertia(ixz):
         assert abs(both.inertia[0, 2]) < abs(ixz)
 
 
-def test_the_default_ballast_leaves_its_link_without_yaw_roll_coupling(default_robot, default_params):
+def test_the_ballast_keeps_clear_of_the_parts_and_refuses_when_boxed_in():
+    """A part's box across the wanted height pushes the sphere to the nearest free height (the gap: its radius and
+    the clearance); boxes filling the room leave no height, and the trim says so with the part's name."""
+    link = mp.make_inertial(1.5, (-0.15, 0.0, -0.008), [[1.1e-3, 0, 1.5e-4], [0, 7.8e-3, 0], [1.5e-4, 0, 7.4e-3]])
+    trim = {"possible": True, "mass_kg": 0.056, "x_m": -0.052, "z_room_m": 0.036, "sphere_radius_mm": 10.6}
+    free = mp.ballast_height(trim, link)
+    box = ("board", ((-0.067, -0.0075, -0.0225), (-0.037, 0.0075, 0.0225)))
+    t = mp.ballast_height(trim, link, [box], 0.0005)
+    assert t["possible"] and t["clear_of"] == ("board",)
+    assert t["z_m"] == pytest.approx(0.0225 + 0.0106 + 0.0005, abs=1e-12)     # above the board: nearer the want
+    assert abs(free["z_m"] - t["z_m"]) > 0.01
+    aside = ("aside", ((-0.067, 0.02, -0.03), (-0.037, 0.03, 0.03)))           # beside the sphere's path: no bar
+    assert mp.ballast_height(trim, link, [aside], 0.0005)["z_m"] == free["z_m"]
+    full = ("block", ((-0.067, -0.0075, -0.03), (-0.037, 0.0075, 0.03)))
+    t = mp.ballast_height(trim, link, [full], 0.0005)
+    assert not t["possible"] and "block" in t["reason"]
+
+
+def test_the_default_ballast_leaves_its_link_without_yaw_roll_coupling(default_robot, default_params, default_parts):
     """Default design: the trim ballast's link (the head), with the water it carries (the body MuJoCo moves), has
     I_xz ~ 0 about its COM (on the hull floor it would be ~3e-4 kg m^2: the swimming fish then pitched 20 deg
     in MuJoCo), and the lead sphere
@@ -391,6 +409,13 @@ def test_the_default_ballast_leaves_its_link_without_yaw_roll_coupling(default_r
     th = np.linspace(0, 2 * np.pi, 3600)
     d = np.hypot(a * np.cos(th), b * np.sin(th) - 1000 * t["z_m"]).min()
     assert d >= t["sphere_radius_mm"] + p.hull.wall_thickness_mm - 1e-3
+    # and clear of every solid part inside the head, measured on the B-rep
+    from build123d import Vector
+    centre = Vector(1000 * t["x_m"], 0.0, 1000 * t["z_m"])
+    inside = [pt for pt in default_parts if pt.link == t["link"] and pt.family != "hull"]
+    assert any(pt.label == "electronics" for pt in inside)
+    for pt in inside:
+        assert pt.solid.distance_to(centre) >= t["sphere_radius_mm"] + p.print.clearance_assembly_mm - 1e-6, pt.label
 
 
 def test_trim_ballast_refuses_a_sinking_fish(default_params):
