@@ -376,15 +376,19 @@ MOTOR_CASE_AREA_FACES = 5
 """Faces of a motor's frame that give heat to the air: four sides and the back (the front is on its mount)."""
 
 
-def dry_wall_area_m2(p: Params, n: int = 400) -> float:
-    """Wall of the dry compartment: the hull's outer surface from the nose to the first flooded joint (the sealed
-    links; every link with ``hull.flooded_from_joint`` beyond the joints), plus the rear bulkhead that faces the
-    flooded segment behind it [m^2]. The ellipse perimeters by Ramanujan's second formula, integrated along the
-    stations."""
-    from swiftfin.layout.geometry import half_height_mm, hull_end_mm, joint_stations_mm, naca_half_width_mm
-    js = joint_stations_mm(p)
-    k = p.hull.flooded_from_joint
-    s_end = js[k - 1] if k <= len(js) else hull_end_mm(p)
+def dry_wall_m2(p: Params, n: int = 400) -> tuple[float, float, float]:
+    """The dry compartment's wall, as heat leaves it: (side wall [m^2], rear wall's face [m^2], rear wall's
+    thickness [m]). The side wall is the hull's outer surface from the nose to where the cavity ends, the front face
+    of the rear wall (:func:`swiftfin.layout.hull_plan.dry_wall_span_mm`: as thick as the cable glands need, 14.9 mm
+    on the default design, where the side wall is ``hull.wall_thickness_mm``); a hull sealed throughout is skinned
+    to its end and has no rear wall (0, 0). The ellipse perimeters by Ramanujan's second formula, integrated along the stations."""
+    from swiftfin.layout.geometry import half_height_mm, hull_end_mm, naca_half_width_mm
+    from swiftfin.layout.hull_plan import dry_wall_span_mm
+    dry = dry_wall_span_mm(p)
+    if dry is None:
+        return 0.0, 0.0, 0.0
+    s_front, s_back, rear_joint = dry
+    s_end = s_front if rear_joint is not None else hull_end_mm(p)
     s = np.linspace(0.0, s_end, n)
     a = np.asarray(naca_half_width_mm(p, s))
     b = np.asarray(half_height_mm(p, s))
@@ -392,8 +396,15 @@ def dry_wall_area_m2(p: Params, n: int = 400) -> float:
     per = math.pi * (a + b) * (1 + 3 * h / (10 + np.sqrt(4 - 3 * h)))
     da = np.gradient(0.5 * (a + b), s)                       # the surface is slanted where the section grows
     side = float(np.trapezoid(per * np.sqrt(1 + da**2), s))
-    bulkhead = math.pi * a[-1] * b[-1] if k <= len(js) else 0.0
-    return (side + bulkhead) * 1e-6
+    if rear_joint is None:
+        return side * 1e-6, 0.0, 0.0
+    return side * 1e-6, math.pi * a[-1] * b[-1] * 1e-6, (s_back - s_front) * 1e-3
+
+
+def dry_wall_area_m2(p: Params, n: int = 400) -> float:
+    """Wall of the dry compartment [m^2]: its side wall and its rear wall's face (:func:`dry_wall_m2`)."""
+    side, rear, _ = dry_wall_m2(p, n)
+    return side + rear
 
 
 def _heat(ctx: RuleContext) -> dict:
@@ -408,15 +419,18 @@ def _heat(ctx: RuleContext) -> dict:
     driver_w = driver_bridge_loss_w(p.motor.phase_current_a, p.power.driver_rds_on_ohm, micro)
     total_w = n * (motor_w + driver_w) + p.power.electronics_power_w
     mat = material(p.print.material)
-    area = dry_wall_area_m2(p)
+    side, rear, rear_m = dry_wall_m2(p)
+    area = side + rear
     env = p.environment
-    r = compartment_resistance_k_w(area, p.hull.wall_thickness_mm * 1e-3, mat.thermal_conductivity_w_m_k,
-                                   env.heat_transfer_air_w_m2_k, env.heat_transfer_water_w_m2_k)
+    r = compartment_resistance_k_w([(side, p.hull.wall_thickness_mm * 1e-3), (rear, rear_m)],
+                                   mat.thermal_conductivity_w_m_k, env.heat_transfer_air_w_m2_k,
+                                   env.heat_transfer_water_w_m2_k)
     air_c = env.water_temperature_c + total_w * r
     case_area = (MOTOR_CASE_AREA_FACES - 1) * p.motor.frame_size_mm * p.motor.body_length_mm * 1e-6 \
         + p.motor.frame_size_mm ** 2 * 1e-6
     case_c = air_c + case_rise_k(motor_w, case_area, env.heat_transfer_air_w_m2_k)
     return {"motor_w": motor_w, "driver_w": driver_w, "total_w": total_w, "area_m2": area, "r_k_w": r,
+            "rear_m2": rear, "rear_m": rear_m,
             "air_c": air_c, "case_c": case_c, "material": mat, "limit_c": mat.heat_deflection_temperature_c
             - p.rules.softening_margin_k}
 
@@ -429,7 +443,8 @@ def dry_compartment_temperature(ctx: RuleContext) -> Finding:
                    f"heat deflection temperature less rules.softening_margin_k", unit="C",
                    detail=f"{h['total_w']:.1f} W inside ({p.joints.count} motors x {h['motor_w']:.2f} W copper + "
                           f"drivers x {h['driver_w']:.2f} W + electronics {p.power.electronics_power_w:g} W at "
-                          f"{p.motor.phase_current_a:g} A) through {h['area_m2'] * 1e4:.0f} cm^2 of wall, "
+                          f"{p.motor.phase_current_a:g} A) through {h['area_m2'] * 1e4:.0f} cm^2 of wall (the rear wall's "
+                          f"{h['rear_m2'] * 1e4:.0f} cm^2 {1000 * h['rear_m']:.1f} mm thick), "
                           f"{h['r_k_w']:.2f} K/W: {h['total_w'] * h['r_k_w']:.0f} K over the "
                           f"{p.environment.water_temperature_c:g} C water")
 

@@ -883,8 +883,13 @@ class _Group:
         k = c("hull.flooded_from_joint")
         inside = k <= n
         kk = np.clip(k - 1, 0, n - 1)
-        s_end = np.where(inside, np.take_along_axis(self.js, kk[None], axis=0)[0], self.hend)
-        # dry_wall_area_m2: the perimeter of the section (a, H a) is pi (1 + H) a R(H) (Ramanujan II with its
+        # dry_wall_m2: the cavity ends at the rear wall's front face (layout.hull_plan.dry_bulkhead: the last sealed
+        # segment's end less the wall, as thick as the cable glands need and never thinner than a bulkhead)
+        rear_m = np.where(inside, np.maximum(c("hull.bulkhead_thickness_mm"), c("hull.cable_gland_length_mm")
+                                             + MIN_WEB_LINES * c("print.line_width_mm")), 0.0)
+        s_end = np.where(inside, np.take_along_axis(self.seg_end, kk[None], axis=0)[0] - rear_m, self.hend)
+        rear_m = rear_m * 1e-3
+        # the perimeter of the section (a, H a) is pi (1 + H) a R(H) (Ramanujan II with its
         # h = ((1 - H)/(1 + H))^2 the same at every station), the slant sqrt(1 + (d(0.5 (a + b))/ds)^2) by central
         # differences, the trapezoid rule over the 400 equal steps
         a = self.work("wall", (N_WALL, N))
@@ -903,8 +908,8 @@ class _Group:
         acc += 0.5 * (a[0] * np.sqrt(1 + d0 * d0) + a[-1] * np.sqrt(1 + d1 * d1))
         hh = ((1 - H) / (1 + H)) ** 2
         side = math.pi * (1 + H) * (1 + 3 * hh / (10 + np.sqrt(4 - 3 * hh))) * ds * acc
-        bulk = np.where(inside, math.pi * a[-1] * (H * a[-1]), 0.0)
-        area = (side + bulk) * 1e-6
+        side = side * 1e-6
+        rear = np.where(inside, math.pi * a[-1] * (H * a[-1]), 0.0) * 1e-6
         micro = np.where(c("motor.microsteps") > 1, 1.0, 2.0)
         I = c("motor.phase_current_a")
         motor_w = micro * I**2 * c("motor.phase_resistance_ohm")
@@ -917,7 +922,8 @@ class _Group:
             mt = material(name)
             kw[sel], hdt[sel] = mt.thermal_conductivity_w_m_k, mt.heat_deflection_temperature_c
         h_air, h_w = c("environment.heat_transfer_air_w_m2_k"), c("environment.heat_transfer_water_w_m2_k")
-        r = (1.0 / h_air + c("hull.wall_thickness_mm") * 1e-3 / kw + 1.0 / h_w) / area
+        r = 1.0 / (side / (1.0 / h_air + c("hull.wall_thickness_mm") * 1e-3 / kw + 1.0 / h_w)
+                   + rear / (1.0 / h_air + rear_m / kw + 1.0 / h_w))
         air = c("environment.water_temperature_c") + total_w * r
         F, bl = c("motor.frame_size_mm"), c("motor.body_length_mm")
         case_area = (MOTOR_CASE_AREA_FACES - 1) * F * bl * 1e-6 + F**2 * 1e-6

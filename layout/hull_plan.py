@@ -257,8 +257,27 @@ def dry_bulkhead(p: Params) -> DryBulkhead | None:
     last = max(sealed, key=lambda pc: pc.s_end_mm)
     if last.rear_joint is None:              # the whole hull is sealed: the fin socket's plug closes it
         return DryBulkhead(last.name, None, _cavity_range(p, last)[1], last.s_end_mm)
-    thick = max(p.hull.bulkhead_thickness_mm, p.hull.cable_gland_length_mm + L.tube_seat_shoulder_mm(p))
-    return DryBulkhead(last.name, last.rear_joint, last.s_end_mm - thick, last.s_end_mm)
+    return DryBulkhead(last.name, last.rear_joint, last.s_end_mm - dry_wall_thickness_mm(p), last.s_end_mm)
+
+
+def dry_wall_thickness_mm(p: Params) -> float:
+    """Thickness of the dry compartment's rear wall: the cable glands' length and their seat's shoulder, never
+    thinner than ``hull.bulkhead_thickness_mm``."""
+    return max(p.hull.bulkhead_thickness_mm, p.hull.cable_gland_length_mm + L.tube_seat_shoulder_mm(p))
+
+
+def dry_wall_span_mm(p: Params) -> tuple[float, float, int | None] | None:
+    """(front face, back face, joint behind) of the dry compartment's rear wall from the hull's segments alone
+    (what :func:`dry_bulkhead` gives, without splitting the segments for the bed; so it never refuses a design the
+    bed cannot hold): the last sealed segment's end, the wall :func:`dry_wall_thickness_mm` ahead of it. A hull
+    sealed throughout: (its end, its end, None). None when nothing is sealed."""
+    sealed = [seg for seg in L.hull_segments(p) if not flooded(p, seg.link)]
+    if not sealed:
+        return None
+    last = max(sealed, key=lambda seg: seg.s_end_mm)
+    if last.link + 1 > p.joints.count:
+        return last.s_end_mm, last.s_end_mm, None
+    return last.s_end_mm - dry_wall_thickness_mm(p), last.s_end_mm, last.link + 1
 
 
 def flooded(p: Params, link: int) -> bool:

@@ -30,12 +30,14 @@ def driver_bridge_loss_w(phase_current_a: float, rds_on_ohm: float, microsteppin
     return (1.0 if microstepping else 2.0) * phase_current_a**2 * rds_on_ohm
 
 
-def compartment_resistance_k_w(area_m2: float, wall_m: float, k_wall_w_m_k: float, h_air_w_m2_k: float,
-                               h_water_w_m2_k: float) -> float:
-    """Thermal resistance from the inside air to the water [K/W]."""
-    if area_m2 <= 0:
-        raise ValueError(f"compartment wall area {area_m2} m^2: expected > 0")
-    return (1.0 / h_air_w_m2_k + wall_m / k_wall_w_m_k + 1.0 / h_water_w_m2_k) / area_m2
+def compartment_resistance_k_w(walls, k_wall_w_m_k: float, h_air_w_m2_k: float, h_water_w_m2_k: float) -> float:
+    """Thermal resistance from the inside air to the water [K/W] through ``walls``, ``[(area m^2, thickness m),
+    ...]`` side by side: each a plane wall with convection on both faces, ``A / (1/h_air + t/k + 1/h_water)``
+    conductances in parallel."""
+    walls = [(float(a), float(t)) for a, t in walls]
+    if sum(a for a, _ in walls) <= 0 or any(a < 0 for a, _ in walls):
+        raise ValueError(f"compartment walls {walls} (m^2, m): expected areas >= 0 and some > 0")
+    return 1.0 / sum(a / (1.0 / h_air_w_m2_k + t / k_wall_w_m_k + 1.0 / h_water_w_m2_k) for a, t in walls)
 
 
 def case_rise_k(power_w: float, case_area_m2: float, h_air_w_m2_k: float) -> float:

@@ -9,7 +9,7 @@ import pytest
 
 from swiftfin.catalogues.materials import material, material_names
 from swiftfin.design_rules import RULES, RuleContext, run_rules
-from swiftfin.design_rules.rules import dry_wall_area_m2
+from swiftfin.design_rules.rules import dry_wall_area_m2, dry_wall_m2
 from swiftfin.physics import thermal as th
 
 
@@ -17,13 +17,15 @@ def test_losses_and_resistances_are_the_closed_forms():
     assert th.stepper_copper_loss_w(1.5, 1.5) == pytest.approx(1.5**2 * 1.5)          # sine/cosine: I^2 R in all
     assert th.stepper_copper_loss_w(1.5, 1.5, microstepping=False) == pytest.approx(2 * 1.5**2 * 1.5)
     assert th.driver_bridge_loss_w(1.0, 0.75) == pytest.approx(0.75)
-    # plane wall with convection on both sides: (1/h1 + t/k + 1/h2) / A
-    assert th.compartment_resistance_k_w(0.1, 0.002, 0.13, 5.0, 200.0) == pytest.approx(
-        (0.2 + 0.002 / 0.13 + 0.005) / 0.1)
+    # plane wall with convection on both sides: (1/h1 + t/k + 1/h2) / A; two walls side by side: in parallel
+    r1, r2 = (0.2 + 0.002 / 0.13 + 0.005) / 0.1, (0.2 + 0.015 / 0.13 + 0.005) / 0.006
+    assert th.compartment_resistance_k_w([(0.1, 0.002)], 0.13, 5.0, 200.0) == pytest.approx(r1)
+    assert th.compartment_resistance_k_w([(0.1, 0.002), (0.006, 0.015)], 0.13, 5.0, 200.0) == pytest.approx(
+        r1 * r2 / (r1 + r2))
     assert th.case_rise_k(3.0, 0.01, 5.0) == pytest.approx(60.0)
     assert th.run_time_s(4.5 * 3600, 0.8, 10.0) == pytest.approx(1296.0)
     with pytest.raises(ValueError):
-        th.compartment_resistance_k_w(0.0, 0.002, 0.13, 5.0, 200.0)
+        th.compartment_resistance_k_w([(0.0, 0.002)], 0.13, 5.0, 200.0)
 
 
 def test_the_materials_table_orders_the_softening_temperatures():
@@ -38,10 +40,18 @@ def test_dry_wall_area_of_a_cylinder_like_hull_matches_its_closed_form(default_p
     sealed = dataclasses.replace(p, hull=dataclasses.replace(p.hull, flooded_from_joint=p.joints.count + 1))
     assert dry_wall_area_m2(sealed) > dry_wall_area_m2(p)
     big = dataclasses.replace(p, body=dataclasses.replace(p.body, length_mm=2 * p.body.length_mm))
-    assert dry_wall_area_m2(big) == pytest.approx(4 * dry_wall_area_m2(p), rel=1e-3)
+    # twice as long: four times the area, but for the rear wall, which is as thick as the glands in both (not
+    # twice): the big one's side runs that much further, at most 2 t / s_front of its length more
+    side, rear, t = dry_wall_m2(p)
+    from swiftfin.layout.hull_plan import dry_bulkhead
+    s_front = dry_bulkhead(p).s_front_mm
+    assert 4 * dry_wall_area_m2(p) < dry_wall_area_m2(big) < 4 * dry_wall_area_m2(p) * (1 + 2 * 1000 * t / s_front)
     # the head's side wall lies between the inscribed and circumscribed cones' areas: bounded by 2 pi b_max s_end
+    # (the side ends at the rear wall's front face, 265.4 mm on the default design: short of joint 1 at 288.6 mm)
     from swiftfin.layout.geometry import half_height_mm, joint_stations_mm
+    from swiftfin.layout.hull_plan import dry_bulkhead
     s1 = joint_stations_mm(p)[0]
+    assert dry_bulkhead(p).s_front_mm < s1 - 20
     assert dry_wall_area_m2(p) < (2 * math.pi * float(half_height_mm(p, 0.3 * p.body.length_mm)) * s1
                                   + math.pi * 60.0**2) * 1e-6
 
@@ -55,7 +65,10 @@ def test_default_heat_balance_by_hand(default_params):
     p = default_params
     f = _heat_findings(p)
     q = p.joints.count * (1.5**2 * 1.5 + 1.5**2 * 0.75) + 0.4                   # 20.65 W
-    r = (1 / 5.0 + 0.002 / 0.13 + 1 / 200.0) / dry_wall_area_m2(p)
+    # the side wall (2 mm) and the rear wall (as thick as the glands: 14 mm + 2 x 0.45 mm shoulder) in parallel
+    side, rear, t = dry_wall_m2(p)
+    assert t == pytest.approx((14.0 + 2 * 0.45) * 1e-3) and rear > 0 and side + rear == dry_wall_area_m2(p)
+    r = 1 / (side / (1 / 5.0 + 0.002 / 0.13 + 1 / 200.0) + rear / (1 / 5.0 + t / 0.13 + 1 / 200.0))
     assert f["heat.dry_compartment"].value == pytest.approx(20.0 + q * r)
     assert f["heat.dry_compartment"].limit == pytest.approx(55.0 - 10.0)       # PLA's HDT less the margin
     case = (4 * 42.3 * 40.0 + 42.3**2) * 1e-6
