@@ -183,6 +183,7 @@ class PartExport:
     print_rotation: tuple[float, float, float] | None = None   # the orientation written (printed parts)
     support_area_mm2: float | None = None      # overhang needing support in it (exports/printability.py)
     orientations: tuple = ()        # (rotation, support area mm^2, fits the bed) of every candidate tried
+    thin_walls: tuple = ()          # exports.printability.ThinWall: walls under two perimeters (body frame)
 
 
 def export_part(spec, p) -> PartExport:
@@ -191,9 +192,11 @@ def export_part(spec, p) -> PartExport:
     mesh = tessellate(spec.solid, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg)
     files: dict[str, bytes] = {}
     size = tuple(float(v) for v in (mesh.bbox_mm[1] - mesh.bbox_mm[0]))
-    rot, support, tried = None, None, ()
+    rot, support, tried, thin = None, None, (), ()
     if spec.printed:
+        from swiftfin.exports.printability import thin_walls
         rot, support, tried = choose_orientation(spec, mesh, p)
+        thin = tuple(thin_walls(mesh.vertices, mesh.faces, 2 * p.print.line_width_mm))
         m = print_transform(mesh, rot, p.print.bed_x_mm, p.print.bed_y_mm)
         pm = mesh.transformed(m)
         size = tuple(float(v) for v in (pm.bbox_mm[1] - pm.bbox_mm[0]))
@@ -201,7 +204,8 @@ def export_part(spec, p) -> PartExport:
         files[".3mf"] = threemf_bytes(pm, spec.label, slicer_config(p))
         files[".step"] = step_bytes(move_shape(spec.solid, m), spec.label)
     props = solid_volume_props(spec.solid)   # the adaptive integration, not Shape.volume's fixed rule
-    return PartExport(mesh, props.volume_mm3, float(spec.solid.area), size, files, props, rot, support, tried)
+    return PartExport(mesh, props.volume_mm3, float(spec.solid.area), size, files, props, rot, support, tried,
+                      thin)
 
 
 def choose_orientation(spec, mesh: Mesh, p):

@@ -98,3 +98,75 @@ def best_orientation(vertices, faces, candidates, support_angle_deg: float, bed_
     if best is None:
         best = (tuple(candidates[0]), tried[0][1])
     return best[0], best[1], tried
+
+
+# ----------------------------------------------------------------------------------------------- thin walls
+WALL_PARALLEL_COS = 0.97
+"""A probe's ray measures a wall when the face it leaves and the face it reaches are within 14 deg of antiparallel;
+between faces at a wider angle it measures the tip of a wedge (a chamfer's edge, a foil's trailing edge), which is
+thinner than any limit near its tip whatever the design, and is not a wall."""
+PROBE_AREA_PER_SAMPLE_MM2 = 0.25
+"""One probe point per this much surface (a 0.5 mm grid), at most :data:`PROBE_MAX_SAMPLES` per part."""
+PROBE_MAX_SAMPLES = 200_000
+CLUSTER_MM = 1.0
+"""Thin probe points closer than this belong to one thin region."""
+MIN_THIN_AREA_MM2 = 1.0
+"""A thin region of less surface than this (four probe points) is not reported: the tessellation's chords and a
+ray that grazes an edge make such specks."""
+
+
+@dataclass(frozen=True)
+class ThinWall:
+    """A region of a part whose wall is thinner than ``limit_mm``: its thinnest point and how much surface is thin."""
+    thickness_mm: float
+    area_mm2: float
+    at_mm: tuple[float, float, float]     # the thinnest probe point (the mesh's frame)
+    limit_mm: float
+
+    def __str__(self) -> str:
+        x, y, z = self.at_mm
+        return (f"{self.thickness_mm:.2f} mm wall (limit {self.limit_mm:.2f}) over {self.area_mm2:.1f} mm^2 at "
+                f"({x:.1f}, {y:.1f}, {z:.1f}) mm")
+
+
+def wall_thickness_samples(vertices: np.ndarray, faces: np.ndarray, seed: int = 0):
+    """Probe points on the surface and the wall behind each: a ray from the point into the part along the inward
+    normal to the first face it meets (trimesh with Embree). Returns (points, thickness_mm, is_wall), one row per
+    point whose ray met a face; ``is_wall``: the two faces are within 14 deg of antiparallel."""
+    import trimesh
+    mesh = trimesh.Trimesh(np.asarray(vertices, float), np.asarray(faces), process=False)
+    n = int(min(PROBE_MAX_SAMPLES, max(1000, mesh.area / PROBE_AREA_PER_SAMPLE_MM2)))
+    points, face_index = trimesh.sample.sample_surface(mesh, n, seed=seed)
+    normals = mesh.face_normals[face_index]
+    lift = 1e-3                                    # start just inside the surface, so the ray leaves its own face
+    origins = points - lift * normals
+    hit, ray, tri = mesh.ray.intersects_location(origins, -normals, multiple_hits=False)
+    thickness = np.linalg.norm(hit - origins[ray], axis=1) + lift
+    is_wall = (mesh.face_normals[tri] * normals[ray]).sum(axis=1) < -WALL_PARALLEL_COS
+    return points[ray], thickness, is_wall, mesh.area / n
+
+
+def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: int = 0) -> list[ThinWall]:
+    """The regions of a closed mesh whose walls are thinner than ``limit_mm`` (probe points within
+    :data:`CLUSTER_MM` of each other are one region; regions under :data:`MIN_THIN_AREA_MM2` are dropped),
+    thinnest first."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    from scipy.spatial import cKDTree
+
+    points, thickness, is_wall, per_point = wall_thickness_samples(vertices, faces, seed)
+    thin = np.nonzero(is_wall & (thickness < limit_mm))[0]
+    if len(thin) == 0:
+        return []
+    pairs = cKDTree(points[thin]).query_pairs(CLUSTER_MM, output_type="ndarray")
+    graph = coo_matrix((np.ones(len(pairs)), (pairs[:, 0], pairs[:, 1])), shape=(len(thin), len(thin)))
+    _, label = connected_components(graph, directed=False)
+    out = []
+    for k in np.unique(label):
+        members = thin[label == k]
+        area = len(members) * per_point
+        if area < MIN_THIN_AREA_MM2:
+            continue
+        i = members[np.argmin(thickness[members])]
+        out.append(ThinWall(float(thickness[i]), float(area), tuple(float(v) for v in points[i]), float(limit_mm)))
+    return sorted(out, key=lambda w: w.thickness_mm)

@@ -66,6 +66,7 @@ class ReportPart:
     catalogue_mass_kg: float | None = None
     support_area_mm2: float | None = None      # overhang needing support in the print orientation
     orientations: tuple = ()                   # (rotation, support mm^2, fits) of the orientations tried
+    thin_walls: tuple = ()                     # exports.printability.ThinWall of the part (body frame)
 
 
 def as_report_part(part) -> ReportPart:
@@ -76,7 +77,8 @@ def as_report_part(part) -> ReportPart:
     return ReportPart(spec.label, spec.family, int(spec.link), bool(spec.printed), np.asarray(exp.mesh.vertices),
                       np.asarray(exp.mesh.faces), tuple(float(v) for v in exp.print_size_mm), float(exp.volume_mm3),
                       tuple(float(v) for v in spec.print_rotation), spec.mass_kg,
-                      getattr(exp, "support_area_mm2", None), tuple(getattr(exp, "orientations", ()) or ()))
+                      getattr(exp, "support_area_mm2", None), tuple(getattr(exp, "orientations", ()) or ()),
+                      tuple(getattr(exp, "thin_walls", ()) or ()))
 
 
 class Progress:

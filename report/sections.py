@@ -122,6 +122,12 @@ def parts_section(p: Params, parts, part_pics: dict | None, mp: dict | None) -> 
             others = [a for r, a, fits in x.orientations if fits and tuple(r) != tuple(x.print_rotation or ())]
             alt = f" (other orientations tried: {', '.join(f'{a:.0f}' for a in others)})" if others else ""
             rot += f"support {x.support_area_mm2:.0f} mm&sup2; at {p.print.support_angle_deg:g}&deg;{alt}, "
+        if x.printed and x.volume_mm3 is not None:
+            lw = p.print.line_width_mm
+            under = sum(w.thickness_mm < lw for w in x.thin_walls)
+            rot += (f"walls: {len(x.thin_walls)} region(s) under two perimeters ({2 * lw:g} mm), {under} under one "
+                    f"line width, thinnest {x.thin_walls[0]}, " if x.thin_walls else
+                    f"no wall under two perimeters ({2 * lw:g} mm), ")
         pic = img(part_pics[x.label], x.label) if part_pics and x.label in part_pics else ""
         cards.append(f'<div class="card" id="part-{esc(x.label)}">{pic}<div class="cbody">'
                      f'<div class="cname">{esc(x.label)}</div>'

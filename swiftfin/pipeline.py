@@ -543,6 +543,7 @@ def summary_table(result: BuildResult) -> str:
                  f"{w.fastener} in {w.part}" if w is not None else "")
         lines.append(f"fastener checks passed: {len(fr.fasteners)} fasteners ({what}) in "
                      f"{len(fr.per_part())} parts, walls, engagement, lengths and drivers' paths{worst}")
+    lines.append(thin_wall_summary(result))
     dr = result.dry_report
     if dr is not None:
         lines.append(dry_wall_summary(result.params, dr))
@@ -556,6 +557,21 @@ def summary_table(result: BuildResult) -> str:
                      f"({plan.pair_checks} part pairs along them{rem}); {len(plan.notes)} part(s) not along their "
                      f"family's usual direction (see report.html)")
     return "\n".join(lines)
+
+
+def thin_wall_summary(result: BuildResult) -> str:
+    """The ray-cast wall probe over every printed part (exports/printability.py): what is thinner than two
+    perimeters, and than one line width. A finding, not a refusal."""
+    lw = result.params.print.line_width_mm
+    printed = [bp for bp in result.parts if bp.spec.printed]
+    walls = [(bp.spec.label, w) for bp in printed for w in bp.export.thin_walls]
+    if not walls:
+        return f"walls: none under two perimeters ({2 * lw:g} mm) on the {len(printed)} printed parts (ray-cast probe)"
+    under = [(lb, w) for lb, w in walls if w.thickness_mm < lw]
+    lb, w = min(walls, key=lambda t: t[1].thickness_mm)
+    return (f"walls (ray-cast probe): {len(walls)} region(s) under two perimeters ({2 * lw:g} mm) on "
+            f"{len({x for x, _ in walls})} of {len(printed)} printed parts, {len(under)} under one line width "
+            f"({lw:g} mm) on {len({x for x, _ in under})}; thinnest: {lb}, {w} (report.html lists each part's)")
 
 
 def dry_wall_summary(p: Params, dr) -> str:

@@ -68,3 +68,63 @@ def test_export_picks_the_candidate_that_needs_least_support(default_params):
     assert [(r, a) for r, a, fits in free.orientations] == [((0.0, 0.0, 0.0), 200.0), ((180.0, 0.0, 0.0), 0.0)]
     fixed = export_part(PartSpec("t_fixed", t, 0, "test"), default_params)
     assert fixed.print_rotation == (0.0, 0.0, 0.0) and fixed.support_area_mm2 == pytest.approx(200.0, rel=1e-3)
+
+
+# ----------------------------------------------------------------------------------------------- thin walls
+def _manifold_mesh(m):
+    mesh = m.to_mesh()
+    return np.asarray(mesh.vert_properties[:, :3], float), np.asarray(mesh.tri_verts)
+
+
+def test_the_wall_probe_finds_a_thin_wall_where_it_is_and_measures_it():
+    """A 20 x 20 x 10 mm block with a pocket that leaves a 0.5 mm wall on its +x side and 3 mm elsewhere: one thin
+    region, on that wall, 0.5 mm thick, of about the wall's area on both faces."""
+    import manifold3d as m3d
+    from swiftfin.exports.printability import thin_walls
+    block = m3d.Manifold.cube([20.0, 20.0, 10.0])
+    pocket = m3d.Manifold.cube([16.5, 14.0, 7.0]).translate([3.0, 3.0, 3.0])   # x 3..19.5: 0.5 mm left to x = 20
+    v, f = _manifold_mesh(block - pocket)
+    found = thin_walls(v, f, 0.9)
+    assert len(found) == 1
+    w = found[0]
+    assert w.thickness_mm == pytest.approx(0.5, abs=0.01)
+    assert 19.4 <= w.at_mm[0] <= 20.0 + 1e-6 and 3.0 <= w.at_mm[1] <= 17.0 and 3.0 <= w.at_mm[2] <= 10.0
+    # the pocket's wall face (14 x 7 mm) and the outside behind it, both probed: about 2 x 98 mm^2
+    assert 150.0 < w.area_mm2 < 220.0
+    assert thin_walls(v, f, 0.45) == []
+    # a 3 mm limit finds the other walls too, none thinner than the thin one
+    assert min(x.thickness_mm for x in thin_walls(v, f, 3.5)) == pytest.approx(0.5, abs=0.01)
+
+
+def test_a_wedge_tip_is_not_a_wall_and_a_plate_is_as_thick_as_it_is():
+    import manifold3d as m3d
+    from swiftfin.exports.printability import thin_walls
+    # a 20 deg wedge, 30 mm long and 20 mm wide: its faces are 20 deg apart, its tip thinner than any limit
+    tan = math.tan(math.radians(10.0))
+    wedge = m3d.Manifold.extrude(m3d.CrossSection([[(0.0, 0.0), (30.0, -30.0 * tan), (30.0, 30.0 * tan)]]), 20.0)
+    v, f = _manifold_mesh(wedge)
+    assert thin_walls(v, f, 0.9) == []
+    plate = m3d.Manifold.cube([30.0, 30.0, 2.0])
+    v, f = _manifold_mesh(plate)
+    assert thin_walls(v, f, 1.9) == []
+    # its two faces, 2 mm apart (more than a region's reach), are two regions of 900 mm^2 each
+    found = thin_walls(v, f, 2.1)
+    assert len(found) == 2
+    for w in found:
+        assert w.thickness_mm == pytest.approx(2.0, abs=1e-6)
+        assert w.area_mm2 == pytest.approx(30 * 30, rel=0.05)
+
+
+def test_the_wall_probe_measures_the_hull_skin_as_the_wall_parameter(default_params, default_parts):
+    """On a built hull half the skin is ``hull.wall_thickness_mm`` thick along its normal (the cavity is the outer
+    loft shrunk by it): the probe's wall samples there read 2.0 mm, and the skin is most of the part's surface."""
+    from swiftfin.exports.brep import tessellate
+    from swiftfin.exports.printability import wall_thickness_samples
+    p = default_params
+    spec = next(s for s in default_parts if s.label == "hull_peduncle_upper")
+    m = tessellate(spec.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
+    points, thickness, is_wall, per_point = wall_thickness_samples(m.vertices, m.faces)
+    t = p.hull.wall_thickness_mm
+    skin = is_wall & (np.abs(thickness - t) < 0.05)
+    assert skin.sum() * per_point > 0.5 * spec.solid.area
+    assert np.median(thickness[skin]) == pytest.approx(t, abs=0.02)
