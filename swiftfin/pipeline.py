@@ -288,7 +288,7 @@ def placed_parts(result: BuildResult) -> list:
             for b in result.parts]
 
 
-def _built_fasteners(result: BuildResult, placed) -> tuple[list, dict[str, str]]:
+def built_fasteners(result: BuildResult, placed) -> tuple[list, dict[str, str]]:
     """The fasteners whose parts were all built (all of them in a whole build: tests/test_fasteners.py proves every
     record names parts of the design; a build of some families has only theirs), and glued part -> its host."""
     from swiftfin.cad.fastening import all_fasteners
@@ -308,7 +308,7 @@ def plan_assembly(result: BuildResult, placed=None, cache: FamilyCache | None = 
     placed = placed_parts(result) if placed is None else placed
     if progress:
         progress("  planning the assembly steps (each part's way in, proved clear of what is already placed) ...")
-    fasteners, glued = _built_fasteners(result, placed)
+    fasteners, glued = built_fasteners(result, placed)
     memo = stage_memo(result, cache)
     paths = PathMemo(cache.root / "assembly-paths") if cache is not None else None
     return memo("assembly_steps", tuple(sorted(q.label for q in placed)),
@@ -339,7 +339,7 @@ def check_fasteners_built(result: BuildResult, placed=None):
     from swiftfin.cad.fastener_check import check_fasteners
 
     placed = placed_parts(result) if placed is None else placed
-    fasteners, glued = _built_fasteners(result, placed)
+    fasteners, glued = built_fasteners(result, placed)
     return check_fasteners(result.params, fasteners, {q.label: q.manifold for q in placed}, goes_in_with=glued)
 
 

@@ -147,8 +147,8 @@ def default_plan(default_params, tmp_path_factory):
 
 
 def _fasteners_and_glue(result, placed):
-    from swiftfin.pipeline import _built_fasteners
-    return _built_fasteners(result, placed)
+    from swiftfin.pipeline import built_fasteners
+    return built_fasteners(result, placed)
 
 
 def test_the_default_plan_planned_again_from_its_memo_is_the_same(default_plan, default_params):
