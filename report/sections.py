@@ -125,9 +125,9 @@ def parts_section(p: Params, parts, part_pics: dict | None, mp: dict | None) -> 
         if x.printed and x.volume_mm3 is not None:
             lw = p.print.line_width_mm
             under = sum(w.thickness_mm < lw for w in x.thin_walls)
-            rot += (f"walls: {len(x.thin_walls)} region(s) under two perimeters ({2 * lw:g} mm), {under} under one "
-                    f"line width, thinnest {x.thin_walls[0]}, " if x.thin_walls else
-                    f"no wall under two perimeters ({2 * lw:g} mm), ")
+            w = x.thin_walls[0] if x.thin_walls else None
+            rot += (f"walls under {2 * lw:g} mm: {len(x.thin_walls)} ({under} under {lw:g}), thinnest "
+                    f"{w.thickness_mm:.2f} at ({', '.join(f'{v:.0f}' for v in w.at_mm)}), " if w else "")
         pic = img(part_pics[x.label], x.label) if part_pics and x.label in part_pics else ""
         cards.append(f'<div class="card" id="part-{esc(x.label)}">{pic}<div class="cbody">'
                      f'<div class="cname">{esc(x.label)}</div>'

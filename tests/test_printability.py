@@ -116,15 +116,18 @@ def test_a_wedge_tip_is_not_a_wall_and_a_plate_is_as_thick_as_it_is():
 
 
 def test_the_wall_probe_measures_the_hull_skin_as_the_wall_parameter(default_params, default_parts):
-    """On a built hull half the skin is ``hull.wall_thickness_mm`` thick along its normal (the cavity is the outer
-    loft shrunk by it): the probe's wall samples there read 2.0 mm, and the skin is most of the part's surface."""
+    """On a built hull half, where the skin's normal is along one of its section's axes (the crest, y ~ 0) and the
+    hull barely tapers (the head's widest length), the cavity (the section's semi-axes less the wall) lies exactly
+    ``hull.wall_thickness_mm`` inside the skin: the probe reads it there. (Elsewhere a section shrunk on both
+    semi-axes is thinner along the normal than the wall, and more so where the hull tapers: the probe reads 1.9 mm
+    and less towards the nose.)"""
     from swiftfin.exports.brep import tessellate
     from swiftfin.exports.printability import wall_thickness_samples
     p = default_params
-    spec = next(s for s in default_parts if s.label == "hull_peduncle_upper")
+    spec = next(s for s in default_parts if s.label == "hull_head_rear_upper")
     m = tessellate(spec.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
     points, thickness, is_wall, per_point = wall_thickness_samples(m.vertices, m.faces)
-    t = p.hull.wall_thickness_mm
-    skin = is_wall & (np.abs(thickness - t) < 0.05)
-    assert skin.sum() * per_point > 0.5 * spec.solid.area
-    assert np.median(thickness[skin]) == pytest.approx(t, abs=0.02)
+    crest = is_wall & (np.abs(points[:, 1]) < 2.0) & (-points[:, 0] > 170.0) & (-points[:, 0] < 230.0) \
+        & (points[:, 2] > 40.0)
+    assert crest.sum() > 100
+    assert np.median(thickness[crest]) == pytest.approx(p.hull.wall_thickness_mm, abs=0.01)
