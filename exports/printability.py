@@ -131,8 +131,9 @@ class ThinWall:
 
 def wall_thickness_samples(vertices: np.ndarray, faces: np.ndarray, seed: int = 0):
     """Probe points on the surface and the wall behind each: a ray from the point into the part along the inward
-    normal to the first face it meets (trimesh with Embree). Returns (points, thickness_mm, is_wall), one row per
-    point whose ray met a face; ``is_wall``: the two faces are within 14 deg of antiparallel."""
+    normal to the first face it meets (trimesh with Embree). Returns (points, thickness_mm, is_wall, area per
+    point mm^2), a row per point whose ray met a face; ``is_wall``: the two faces are within 14 deg of
+    antiparallel."""
     import trimesh
     mesh = trimesh.Trimesh(np.asarray(vertices, float), np.asarray(faces), process=False)
     n = int(min(PROBE_MAX_SAMPLES, max(1000, mesh.area / PROBE_AREA_PER_SAMPLE_MM2)))

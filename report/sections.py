@@ -122,12 +122,12 @@ def parts_section(p: Params, parts, part_pics: dict | None, mp: dict | None) -> 
             others = [a for r, a, fits in x.orientations if fits and tuple(r) != tuple(x.print_rotation or ())]
             alt = f" (other orientations tried: {', '.join(f'{a:.0f}' for a in others)})" if others else ""
             rot += f"support {x.support_area_mm2:.0f} mm&sup2; at {p.print.support_angle_deg:g}&deg;{alt}, "
-        if x.printed and x.volume_mm3 is not None:
+        if x.thin_walls:     # exports/printability.thin_walls, thinnest first
             lw = p.print.line_width_mm
-            under = sum(w.thickness_mm < lw for w in x.thin_walls)
-            w = x.thin_walls[0] if x.thin_walls else None
+            w = x.thin_walls[0]
+            under = sum(t.thickness_mm < lw for t in x.thin_walls)
             rot += (f"walls under {2 * lw:g} mm: {len(x.thin_walls)} ({under} under {lw:g}), thinnest "
-                    f"{w.thickness_mm:.2f} at ({', '.join(f'{v:.0f}' for v in w.at_mm)}), " if w else "")
+                    f"{w.thickness_mm:.2f} at ({', '.join(f'{v:.0f}' for v in w.at_mm)}), ")
         pic = img(part_pics[x.label], x.label) if part_pics and x.label in part_pics else ""
         cards.append(f'<div class="card" id="part-{esc(x.label)}">{pic}<div class="cbody">'
                      f'<div class="cname">{esc(x.label)}</div>'

@@ -571,7 +571,7 @@ def thin_wall_summary(result: BuildResult) -> str:
     lb, w = min(walls, key=lambda t: t[1].thickness_mm)
     return (f"walls (ray-cast probe): {len(walls)} region(s) under two perimeters ({2 * lw:g} mm) on "
             f"{len({x for x, _ in walls})} of {len(printed)} printed parts, {len(under)} under one line width "
-            f"({lw:g} mm) on {len({x for x, _ in under})}; thinnest: {lb}, {w} (report.html lists each part's)")
+            f"({lw:g} mm) on {len({x for x, _ in under})}; thinnest: {lb}, {w} (each part's count on its card in report.html)")
 
 
 def dry_wall_summary(p: Params, dr) -> str:
