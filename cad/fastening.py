@@ -80,9 +80,24 @@ def head_cutters(f: Fastener, head_room_mm: float = 10.0) -> list[bd.Solid]:
     a = np.asarray(f.axis, dtype=float)
     out = [_rod(f.point_mm(-OVERCUT_MM), a, s.clearance_hole_mm / 2, f.grip_mm + 2 * OVERCUT_MM)]
     if f.recess_mm > 0:
-        out.append(_rod(f.point_mm(-f.recess_mm - head_room_mm), a, s.counterbore_diameter_mm / 2,
-                        f.recess_mm + head_room_mm))
+        r, length = s.counterbore_diameter_mm / 2, f.recess_mm + head_room_mm
+        out.append(_rod(f.point_mm(-length), a, r, length))
+        if f.recess_open_toward is not None:
+            out.append(_slot(f.point_mm(-length), a, np.asarray(f.recess_open_toward, dtype=float), r, length))
     return out
+
+
+SLOT_REACH_MM = 25.0
+"""How far an open counterbore's slot runs outward from the axis (past any skin it opens through)."""
+
+
+def _slot(start, axis: np.ndarray, toward: np.ndarray, half_width_mm: float, length_mm: float) -> bd.Solid:
+    """A box from the axis outward along ``toward``, as wide as the counterbore, ``length_mm`` along the axis from
+    ``start``: the counterbore's outer half carried out through the surface, so its rim meets the skin square."""
+    pl = bd.Plane(origin=tuple(map(float, start)), x_dir=tuple(map(float, toward)), z_dir=tuple(map(float, axis)))
+    box = bd.Box(SLOT_REACH_MM, 2 * half_width_mm, length_mm,
+                 align=(bd.Align.MIN, bd.Align.CENTER, bd.Align.MIN))
+    return (pl * box).solid()
 
 
 def seat_cutters(f: Fastener, open_mm: float = 0.0) -> list[bd.Solid]:
@@ -109,7 +124,7 @@ def seat_cutters(f: Fastener, open_mm: float = 0.0) -> list[bd.Solid]:
         out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.clearance_hole_mm / 2, past + 2 * OVERCUT_MM))
         out.append(_hex_prism(f.point_mm(f.grip_mm), a, s.nut_trap_width_mm, s.nut_trap_depth_mm + open_mm))
     elif f.seat == "self_tap":
-        out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.pilot_hole_mm / 2, past + 1.0 + OVERCUT_MM))
+        out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.pilot_hole_mm / 2, past + f.pilot_past_tip_mm + OVERCUT_MM))
     elif f.seat == "tapped":
         pass             # a bought part's own tapped hole: nothing to cut
     else:

@@ -88,7 +88,8 @@ class GuideBlock:
     x_mm: tuple[float, float]
     y_mm: tuple[float, float]
     z_mm: tuple[float, float]
-    clip_ellipse_mm: tuple[float, float]   # half-width, half-height of the hull clip (centred on the axis)
+    clip_ellipse_mm: tuple[tuple[float, float], tuple[float, float]]   # the hull clip's half-width and
+    # half-height (centred on the axis) at x_mm[0] and at x_mm[1]; in between, linear (a ruled loft)
     channels: tuple[Channel, ...]
     screw_points_mm: tuple[tuple[float, float], ...]   # (x, y) of the vertical screws (down into the posts)
     screw_diameter_mm: float
@@ -124,7 +125,7 @@ def inside_block(b: GuideBlock, pts: np.ndarray, keep_out_pad_mm: float = 0.0) -
     (x0, x1), (y0, y1), (z0, z1) = b.x_mm, b.y_mm, b.z_mm
     x, y, z = pts[:, 0], pts[:, 1], pts[:, 2]
     ok = (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1) & (z >= z0) & (z <= z1)
-    a, h = b.clip_ellipse_mm
+    a, h = clip_at(b, x)
     ok &= (y / a) ** 2 + (z / h) ** 2 <= 1.0
     for kx, ky, kr in b.keep_out_mm:
         ok &= np.hypot(x - kx, y - ky) >= kr + keep_out_pad_mm
@@ -215,13 +216,34 @@ def channel_path(ch: Channel) -> Wire:
     return Wire(edges)
 
 
-def _clip_ellipse(p: Params, s0_mm: float, s1_mm: float) -> tuple[float, float]:
-    """The hull's inner cross-section, less the clearance, at the narrower end of [s0, s1] (the hull's
-    half-width has one maximum, so its minimum over an interval lies at an end)."""
+CLIP_SAMPLES = 9
+"""Stations between a block's ends at which its ruled hull clip is proved inside the hull's inner section."""
+
+
+def _clip_ellipse(p: Params, s0_mm: float, s1_mm: float) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The hull's inner cross-section, less the clearance, at each end of [s0, s1] (stations), joined by a ruled
+    loft: the sections in between have the semi-axes linearly between the ends'. The hull's half-width and
+    half-height are concave in the station (a foil's thickness), so the chord lies inside; where a design's are
+    not, both ends shrink by the most the chord stands out at :data:`CLIP_SAMPLES` stations between them. (The
+    clip used to be the narrower end's section all along, which left the bay guide's outer channels breaking
+    out of its sides at the wider end: 0.00-0.20 mm walls, 2026-11-27.)"""
     c = assembly_gap_mm(p)
-    s = min((s0_mm, s1_mm), key=lambda v: float(naca_half_width_mm(p, v)))
-    return (float(naca_half_width_mm(p, s)) - p.hull.wall_thickness_mm - c,
-            float(half_height_mm(p, s)) - p.hull.wall_thickness_mm - c)
+
+    def inner(s):
+        return np.array([float(naca_half_width_mm(p, s)), float(half_height_mm(p, s))]) - p.hull.wall_thickness_mm - c
+
+    e0, e1 = inner(s0_mm), inner(s1_mm)
+    excess = max(0.0, max(float(np.max((1 - t) * e0 + t * e1 - inner((1 - t) * s0_mm + t * s1_mm)))
+                          for t in np.linspace(0.0, 1.0, CLIP_SAMPLES)))
+    return tuple(map(float, e0 - excess)), tuple(map(float, e1 - excess))
+
+
+def clip_at(b: GuideBlock, x_mm):
+    """The hull clip's (half-width, half-height) at body-frame ``x_mm`` (scalar or array), as the loft has it."""
+    (a0, h0), (a1, h1) = b.clip_ellipse_mm
+    x0, x1 = b.x_mm
+    t = np.clip((np.asarray(x_mm, dtype=float) - x0) / (x1 - x0), 0.0, 1.0)
+    return a0 + t * (a1 - a0), h0 + t * (h1 - h0)
 
 
 def arc_points(ch: Channel, n: int = 33) -> np.ndarray:
@@ -428,10 +450,13 @@ def channel_solid(ch: Channel) -> Solid:
 def guide_solid(b: GuideBlock) -> Solid:
     (x0, x1), (y0, y1), (z0, z1) = b.x_mm, b.y_mm, b.z_mm
     box = Solid.make_box(x1 - x0, y1 - y0, z1 - z0).translate((x0, y0, z0))
-    a, h = b.clip_ellipse_mm
-    ell = Face(Wire.make_ellipse(a, h, Plane.YZ.offset(x0 - 1)))
-    prism = Solid.extrude(ell, (x1 - x0 + 2, 0, 0))
-    body = box.intersect(prism).solids()[0]
+    (a0, h0), (a1, h1) = b.clip_ellipse_mm
+    # the loft runs 1 mm past each end along its own slope, so the box's end faces cut it
+    k0, k1 = -1.0 / (x1 - x0), 1.0 + 1.0 / (x1 - x0)
+    ends = [Wire.make_ellipse(a0 + k * (a1 - a0), h0 + k * (h1 - h0), Plane.YZ.offset(x))
+            for k, x in ((k0, x0 - 1), (k1, x1 + 1))]
+    loft = Solid.make_loft(ends, ruled=True)
+    body = box.intersect(loft).solids()[0]
     cutters = []
     for ch in b.channels:
         seat = b.tube_seat(ch.joint, ch.side) if is_chain_end(b, ch) else None

@@ -57,6 +57,7 @@ from swiftfin.layout import geometry as L
 from swiftfin.cad.kernel import bd
 from swiftfin.layout.fin_plan import tang_dims_mm
 from swiftfin.cad.clevis import clevis_add, clevis_cut
+from swiftfin.cad.fastening import SLOT_REACH_MM
 from swiftfin.cad.link import JointHardware, all_joint_hardware, box, isect, one_solid, rod
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.schema import Params
@@ -299,6 +300,13 @@ def _seam_bosses(p: Params, pc: HullPiece, outer: bd.Solid) -> list[bd.Shape]:
                 if boss.is_valid:
                     break
             out.append(boss)
+        if f.kind == "screw":
+            # the column's outer half carried out to the skin: the head's counterbore opens sideways through the
+            # skin (a slot, cad/fastening.head_cutters) instead of leaving a knife edge on the steep belly, and the
+            # slot's walls are this column's, never the dry cavity's
+            r, y_out = f.boss_radius_mm, f.y_mm + f.side * 2 * SLOT_REACH_MM
+            out.append(isect(box(-f.s_mm - r, -f.s_mm + r, min(f.y_mm, y_out), max(f.y_mm, y_out),
+                                 -f.lower_depth_mm, 0.0), outer))
     return out
 
 

@@ -58,7 +58,7 @@ from swiftfin.cad.kernel import Axis, Edge, Face, Location, Plane, Solid, Wire
 
 from swiftfin.catalogues.cable_parts import crimp_sleeve
 from swiftfin.catalogues.fasteners import fastener
-from swiftfin.layout.fastening import Fastener
+from swiftfin.layout.fastening import PILOT_PAST_TIP_MM, Fastener
 from swiftfin.layout.geometry import cable_routes, motor_placements, spool_dims, spool_travel_turns
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.errors import UserError
@@ -227,7 +227,7 @@ def _spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
     index_r = (bore_r + root_r) / 2
     grip_full = z4 - split
     lower_depth = split - hub_z[1]                              # lower drum half + lower flange
-    past_max = lower_depth - 1.0 - w                            # the pilot runs 1 mm past the tip
+    past_max = lower_depth - PILOT_PAST_TIP_MM - w              # the pilot runs past the tip
     ix_len = ix.length_at_most(grip_full + past_max)           # its pilot stays inside the lower half
     if ix_len is None or past_max < ix.engagement_min_mm:
         raise UserError(f"spool: the lower half is {lower_depth:.1f} mm deep, too shallow for the {ix.name} index "

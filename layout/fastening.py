@@ -41,6 +41,10 @@ TAPPED_TIP_MARGIN_MM = 0.3
 incomplete) [mm]. Engineering default."""
 
 
+PILOT_PAST_TIP_MM = 1.0
+"""A self-tap pilot runs this far past the screw's tip (room for the chips and the tip's taper)."""
+
+
 @dataclass(frozen=True)
 class Fastener:
     """One screw, set screw or pin, placed (body frame at rest, mm)."""
@@ -57,6 +61,9 @@ class Fastener:
     joins: str                         # what it is for, in words (the BOM's "where")
     link: int = 0                      # kinematic link of the parts it joins
     recess_mm: float = 0.0
+    recess_open_toward: tuple[float, float, float] | None = None   # unit, normal to the axis: the counterbore
+    # opens to the part's surface that way (a slot), where it would otherwise leave a knife edge on a steep skin
+    pilot_past_tip_mm: float = PILOT_PAST_TIP_MM     # a self-tap pilot runs this far past the tip (PILOT_PAST_TIP_MM, or through)
     installed_after: tuple[str, ...] = ()   # parts put on after it is driven: its key may pass where they go
     meta: dict = field(default_factory=dict, compare=False, hash=False)
 

@@ -92,7 +92,8 @@ def fin_fasteners(p: Params) -> tuple[Fastener, ...]:
     """The root screws: at each of the two stations one in each hull half, from the +y side (head in a counterbore
     of the peduncle's wall) into a thread formed in the tang, which they draw onto the socket's +y face. The
     length is the longest catalogue screw whose head sinks below the skin and whose tip stays 0.5 mm inside the
-    tang (no hole in the far wall) with 1.5 d of thread in it; the same length at both stations."""
+    tang with 1.5 d of thread in it; the same length at both stations. The pilot runs through the tang (a blind
+    one would leave a floor thinner than a line under the tip)."""
     from swiftfin.layout.hull_plan import hull_pieces, hull_section_semi_axes_mm, part_label
     td = tang_dims_mm(p)
     s = fastener(p.hull.screw_diameter_mm)
@@ -119,5 +120,6 @@ def fin_fasteners(p: Params) -> tuple[Fastener, ...]:
             out.append(Fastener(f"caudal_fin_root_{i + 1}_{half}", s.name, "cap_screw", "self_tap",
                                 (-st, y_head, z), (0.0, -1.0, 0.0), length, grip, part_label(p, tail, half),
                                 "caudal_fin", "holds the caudal fin's root tang in the peduncle", p.joints.count,
-                                recess_mm=y_axis_skin - y_head))
+                                recess_mm=y_axis_skin - y_head,
+                                pilot_past_tip_mm=y_head - length + td.thickness_mm / 2))
     return tuple(out)

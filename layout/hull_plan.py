@@ -454,7 +454,7 @@ def _seam_fasteners(p: Params, pc: HullPiece) -> list[Fastener]:
         recess = _z_out(a, b, max(0.0, y - s.counterbore_diameter_mm / 2)) - grip
         out.append(Fastener(tag, s.name, "cap_screw", "insert", (-f.s_mm, f.y_mm, -grip), (0.0, 0.0, 1.0), length,
                             grip, lo, up, f"closes the seam of {pc.name} (from the belly)", pc.link,
-                            recess_mm=recess))
+                            recess_mm=recess, recess_open_toward=(0.0, float(f.side), 0.0)))
     return out
 
 

@@ -454,9 +454,20 @@ def test_seam_screws_leave_the_dry_head_closed(hull_parts):
         holes = [(lower, d, s.clearance_hole_mm / 2) for d in np.linspace(0.3, f.grip_mm - 0.3, 4)]
         holes += [(lower, -d, s.counterbore_diameter_mm / 2) for d in np.linspace(0.3, f.recess_mm, 6)]
         holes += [(upper, f.grip_mm + d, s.insert_hole_mm / 2) for d in (0.3, 1.5, 3.2)]
+        r_cb, out = s.counterbore_diameter_mm / 2, np.asarray(f.recess_open_toward, dtype=float)
+        side = np.cross(np.asarray(f.axis, dtype=float), out)
         for solid, d, r in holes:
             for q in _ring(f, d, r + 2 * lw - 0.05, 16):
+                rel = q - f.point_mm(d)
+                if d < 0 and rel @ out > 0 and abs(rel @ side) < r_cb:
+                    continue            # in the counterbore's slot, open to the outside (below)
                 assert _inside(solid, q) or not in_cavity(q), (f.label, d, q)
+        # the slot's side walls: two perimeters of material (or the outside) beside it, all the way out
+        for d in np.linspace(0.3, f.recess_mm, 6):
+            for k in np.linspace(0.0, 8.0, 9):
+                for sg in (1, -1):
+                    q = f.point_mm(-d) + k * out + sg * (r_cb + 2 * lw - 0.05) * side
+                    assert _inside(lower, q) or not in_cavity(q), (f.label, d, k, q)
         assert _inside(upper, f.point_mm(f.grip_mm + s.insert_pocket_depth_mm + 0.5))
         n_checked += 1
     assert n_checked == len([f for f in _seam_records("cap_screw") if f.link == 0]) > 0
