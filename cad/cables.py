@@ -251,8 +251,8 @@ def _cut_at(pts: np.ndarray, seat: np.ndarray) -> np.ndarray:
     """The polyline up to ``seat`` (a point on its last straight), ending exactly there."""
     k = int(np.argmin(np.linalg.norm(pts - seat, axis=1)))
     d = pts[-1] - pts[-2] if len(pts) > 1 else np.zeros(3)
-    if k > 0 and float((pts[k] - seat) @ d) >= 0:
-        k -= 1
+    if k > 0 and float((pts[k] - seat) @ d) >= -1e-6:
+        k -= 1       # a sample at (or past) the seat goes: the last segment ends on the seat, never a zero-length one
     return np.vstack([pts[:k + 1], seat[None, :]])
 
 

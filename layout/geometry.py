@@ -202,14 +202,25 @@ def tendon_level_pitch_mm(p: Params) -> float:
             + MIN_WEB_LINES * p.print.line_width_mm)
 
 
+def tendon_pair_pitch_mm(p: Params) -> float:
+    """Vertical pitch of the cable pairs (one joint's two levels): two level pitches, and the web's half and the
+    sliding clearance more. Joint j's tendon sector spans its pair's levels +- half a level pitch, and the parent's
+    rear bulkhead is cut that high plus the sliding clearance for it to swing in, right above the pass-through
+    tubes of the joints behind; at two level pitches a pair the cut's floor came within 0.15 mm of the top of the
+    next tube's bore (the wall probe, 2026-11-27). This leaves a whole web between them."""
+    return (2 * tendon_level_pitch_mm(p) + MIN_WEB_LINES * p.print.line_width_mm / 2
+            + p.print.clearance_sliding_mm)
+
+
 def tendon_level_mm(p: Params, joint: int, side: int) -> float:
     """Height of joint ``joint``'s (0-based) ``side`` cable in the tail: on the hinge lines it crosses and on
-    its tendon sector. Pairs are stacked upward from the axis, the last joint lowest (the tail is smallest
-    there) and joint 1 highest (nearest the spool planes); left cable above right by one level pitch.
+    its tendon sector. Pairs are stacked upward from the axis a pair pitch apart (:func:`tendon_pair_pitch_mm`),
+    the last joint lowest (the tail is smallest there) and joint 1 highest (nearest the spool planes); left
+    cable above right by one level pitch.
     """
     n = p.joints.count
     pitch = tendon_level_pitch_mm(p)
-    return (n - 1 - joint) * 2 * pitch + side * pitch / 2
+    return (n - 1 - joint) * tendon_pair_pitch_mm(p) + side * pitch / 2
 
 
 def tube_seat_shoulder_mm(p: Params) -> float:
@@ -240,7 +251,12 @@ def cable_exit_hole_mm(p: Params) -> float:
 
 
 def lane_pitch_mm(p: Params) -> float:
-    return p.guides.ptfe_tube_od_mm + 2 * p.print.line_width_mm
+    """Lateral pitch of the lanes beside the spools: the tube's OD and :data:`MIN_WEB_LINES` line widths. The guides'
+    channels are the OD and the sliding clearance, so the web between two lanes' channels is 0.6 mm on the default
+    design: over one line width, under two perimeters (the wall probe lists them). It carries no load (each tube is
+    bonded in its own bore). Widened to a full two-perimeter web (2026-11-27), the lanes pushed the bay guide
+    0.6 mm further out and the head's upper half could no longer be lifted past it with the sliding clearance."""
+    return p.guides.ptfe_tube_od_mm + MIN_WEB_LINES * p.print.line_width_mm
 
 
 def motor_placements(p: Params) -> tuple[MotorPlacement, ...]:
