@@ -290,24 +290,36 @@ def _splice_pads(p: Params, pc: HullPiece, front: HullPiece) -> list[bd.Solid]:
 
 def _seam_bosses(p: Params, pc: HullPiece, outer: bd.Solid) -> list[bd.Shape]:
     """Each seam feature's boss in the upper half and boss (a screw: column to the skin) in the lower half, grown
-    from the seam face and kept inside the skin."""
+    from the seam face and kept inside the skin. A screw's column is D-shaped: round on the inside, its outer half
+    carried straight out to the skin, so the head's counterbore opens sideways through the skin (a slot,
+    :func:`swiftfin.cad.fastening.head_cutters`) instead of leaving a knife edge on the steep belly, and the slot's
+    walls are the column's, never the dry cavity's."""
     out = []
     for f in seam_features(p, pc):
         for direction, length in (((0, 0, 1), f.upper_height_mm), ((0, 0, -1), f.lower_depth_mm)):
             for shrink in (0.0, 1e-3, 1e-2):    # a tangency can leave OpenCascade's common invalid (a 700 mm
                 #                                  hull of 1.6 sections did): a micrometre less radius avoids it
-                boss = isect(rod((-f.s_mm, f.y_mm, 0.0), direction, f.boss_radius_mm - shrink, length), outer)
+                r = f.boss_radius_mm - shrink
+                if f.kind == "screw" and direction[2] < 0:
+                    shape = _d_column(-f.s_mm, f.y_mm, f.side, r, 2 * SLOT_REACH_MM, length)
+                else:
+                    shape = rod((-f.s_mm, f.y_mm, 0.0), direction, r, length)
+                boss = isect(shape, outer)
                 if boss.is_valid:
                     break
             out.append(boss)
-        if f.kind == "screw":
-            # the column's outer half carried out to the skin: the head's counterbore opens sideways through the
-            # skin (a slot, cad/fastening.head_cutters) instead of leaving a knife edge on the steep belly, and the
-            # slot's walls are this column's, never the dry cavity's
-            r, y_out = f.boss_radius_mm, f.y_mm + f.side * 2 * SLOT_REACH_MM
-            out.append(isect(box(-f.s_mm - r, -f.s_mm + r, min(f.y_mm, y_out), max(f.y_mm, y_out),
-                                 -f.lower_depth_mm, 0.0), outer))
     return out
+
+
+def _d_column(x: float, y: float, side: int, r: float, reach: float, depth: float) -> bd.Solid:
+    """A column down from z = 0: round (radius ``r`` about (x, y)) on the side away from ``side`` (+-y), straight
+    out ``reach`` toward it, ``depth`` deep. One extruded face, so no tangent faces meet in a boolean."""
+    p0, p1 = (x - r, y, 0.0), (x + r, y, 0.0)
+    wire = bd.Wire([bd.Edge.make_three_point_arc(p0, (x, y - side * r, 0.0), p1),
+                    bd.Edge.make_line(p1, (x + r, y + side * reach, 0.0)),
+                    bd.Edge.make_line((x + r, y + side * reach, 0.0), (x - r, y + side * reach, 0.0)),
+                    bd.Edge.make_line((x - r, y + side * reach, 0.0), p0)])
+    return bd.Solid.extrude(bd.Face(wire), bd.Vector(0, 0, -depth))
 
 
 def _vent_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:

@@ -11,11 +11,13 @@ plane are measured about the joint axis from +x (forward) toward +y):
 
       parent lower lug | lower knuckle + stop tongue | cable window | tendon sector | parent upper lug
 
-  The cable levels (:func:`swiftfin.layout.geometry.tendon_level_mm`) come in pairs one level pitch P apart, the
-  last joint's at +-P/2, the pairs a pair pitch (2P + half a web + the sliding clearance) apart, the last joint lowest. Joint j's window holds the levels of the joints behind it (they cross its hinge
+  The cable levels (:func:`swiftfin.layout.geometry.tendon_level_mm`) are spaced by one level pitch P starting at -P/2,
+  the last joint lowest. Joint j's window holds the levels of the joints behind it (they cross its hinge
   line on the axis); its own pair of levels is just above, on the sector. The window spans
-  [lowest level - hole radius - web, own lower level - P/2], the sector the next 2P (the window's top holds
-  the pair pitch's extra above the highest hole). P is one pass-through hole
+  [lowest level - hole radius - web, own lower level - r], the sector from there to own upper level + P/2, where
+  r = P/2 (the last joint) or half the tube's OD (a joint with cables crossing below: the slot the sector swings
+  in, cut in the parent's rear bulkhead with the sliding clearance, then keeps a web of two line widths above
+  their tube bores; at P/2 it kept 0.15 mm, the wall probe, 2026-11-27). P is one pass-through hole
   plus a web of two line widths (:func:`swiftfin.layout.geometry.tendon_level_pitch_mm`); the window's floor and the blind pin
   bores' ends keep the same web from the nearest hole, so no skin thinner than two perimeters is left.
 * **Hinge** (fastener records of :func:`swiftfin.layout.link_plan.link_fasteners`; holes cut by the registry): the

@@ -186,6 +186,11 @@ class PartExport:
     thin_walls: tuple = ()          # exports.printability.ThinWall: walls under two perimeters (body frame)
 
 
+LAYERED_WALL_LAYERS = 2
+"""The least wall whose thickness lies along the print's vertical, in layers (a plate printed flat: two layers
+hold together; one is a film)."""
+
+
 def export_part(spec, p) -> PartExport:
     """Tessellate one PartSpec and, for a printed part, write its STL, 3MF and STEP in print orientation."""
     e = p.export
@@ -196,7 +201,9 @@ def export_part(spec, p) -> PartExport:
     if spec.printed:
         from swiftfin.exports.printability import thin_walls
         rot, support, tried = choose_orientation(spec, mesh, p)
-        thin = tuple(thin_walls(mesh.vertices, mesh.faces, 2 * p.print.line_width_mm))
+        up = rotation_matrix(rot)[:3, :3].T @ np.array([0.0, 0.0, 1.0])     # the print's vertical, at rest
+        thin = tuple(thin_walls(mesh.vertices, mesh.faces, 2 * p.print.line_width_mm, up=up,
+                                layered_limit_mm=LAYERED_WALL_LAYERS * p.print.layer_height_mm))
         m = print_transform(mesh, rot, p.print.bed_x_mm, p.print.bed_y_mm)
         pm = mesh.transformed(m)
         size = tuple(float(v) for v in (pm.bbox_mm[1] - pm.bbox_mm[0]))

@@ -129,11 +129,11 @@ class ThinWall:
                 f"({x:.1f}, {y:.1f}, {z:.1f}) mm")
 
 
-def wall_thickness_samples(vertices: np.ndarray, faces: np.ndarray, seed: int = 0):
+def wall_thickness_samples(vertices: np.ndarray, faces: np.ndarray, seed: int = 0, with_normals: bool = False):
     """Probe points on the surface and the wall behind each: a ray from the point into the part along the inward
     normal to the first face it meets (trimesh with Embree). Returns (points, thickness_mm, is_wall, area per
     point mm^2), a row per point whose ray met a face; ``is_wall``: the two faces are within 14 deg of
-    antiparallel."""
+    antiparallel. ``with_normals``: also the points' outward normals, last."""
     import trimesh
     mesh = trimesh.Trimesh(np.asarray(vertices, float), np.asarray(faces), process=False)
     n = int(min(PROBE_MAX_SAMPLES, max(1000, mesh.area / PROBE_AREA_PER_SAMPLE_MM2)))
@@ -144,19 +144,36 @@ def wall_thickness_samples(vertices: np.ndarray, faces: np.ndarray, seed: int = 
     hit, ray, tri = mesh.ray.intersects_location(origins, -normals, multiple_hits=False)
     thickness = np.linalg.norm(hit - origins[ray], axis=1) + lift
     is_wall = (mesh.face_normals[tri] * normals[ray]).sum(axis=1) < -WALL_PARALLEL_COS
+    if with_normals:
+        return points[ray], thickness, is_wall, mesh.area / n, normals[ray]
     return points[ray], thickness, is_wall, mesh.area / n
 
 
-def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: int = 0) -> list[ThinWall]:
+WALL_TOLERANCE_MM = 0.005
+"""A wall drawn at exactly the limit (the two-line webs between bores) reads a few micrometres under it on the mesh."""
+LAYERED_WALL_DEG = 30.0
+"""A wall whose thickness runs within this angle of the print's vertical is made of layers, not of lines."""
+
+
+def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: int = 0,
+               up: np.ndarray | None = None, layered_limit_mm: float | None = None) -> list[ThinWall]:
     """The regions of a closed mesh whose walls are thinner than ``limit_mm`` (probe points within
     :data:`CLUSTER_MM` of each other are one region; regions under :data:`MIN_THIN_AREA_MM2` are dropped),
-    thinnest first."""
+    thinnest first. With ``up`` (the print's vertical, in the mesh's frame) a wall whose thickness runs within
+    :data:`LAYERED_WALL_DEG` of it is a stack of layers and is held to ``layered_limit_mm`` instead (a plate printed
+    flat is as thick as its layers, whatever the line width)."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
 
-    points, thickness, is_wall, per_point = wall_thickness_samples(vertices, faces, seed)
-    thin = np.nonzero(is_wall & (thickness < limit_mm))[0]
+    points, thickness, is_wall, per_point, normals = wall_thickness_samples(vertices, faces, seed,
+                                                                            with_normals=True)
+    limit = np.full(len(points), float(limit_mm))
+    if up is not None and layered_limit_mm is not None:
+        u = np.asarray(up, dtype=float) / np.linalg.norm(up)
+        layered = np.abs(normals @ u) >= math.cos(math.radians(LAYERED_WALL_DEG))
+        limit[layered] = float(layered_limit_mm)
+    thin = np.nonzero(is_wall & (thickness < limit - WALL_TOLERANCE_MM))[0]
     if len(thin) == 0:
         return []
     pairs = cKDTree(points[thin]).query_pairs(CLUSTER_MM, output_type="ndarray")
@@ -169,5 +186,5 @@ def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: i
         if area < MIN_THIN_AREA_MM2:
             continue
         i = members[np.argmin(thickness[members])]
-        out.append(ThinWall(float(thickness[i]), float(area), tuple(float(v) for v in points[i]), float(limit_mm)))
+        out.append(ThinWall(float(thickness[i]), float(area), tuple(float(v) for v in points[i]), float(limit[i])))
     return sorted(out, key=lambda w: w.thickness_mm)

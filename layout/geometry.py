@@ -202,25 +202,14 @@ def tendon_level_pitch_mm(p: Params) -> float:
             + MIN_WEB_LINES * p.print.line_width_mm)
 
 
-def tendon_pair_pitch_mm(p: Params) -> float:
-    """Vertical pitch of the cable pairs (one joint's two levels): two level pitches, and the web's half and the
-    sliding clearance more. Joint j's tendon sector spans its pair's levels +- half a level pitch, and the parent's
-    rear bulkhead is cut that high plus the sliding clearance for it to swing in, right above the pass-through
-    tubes of the joints behind; at two level pitches a pair the cut's floor came within 0.15 mm of the top of the
-    next tube's bore (the wall probe, 2026-11-27). This leaves a whole web between them."""
-    return (2 * tendon_level_pitch_mm(p) + MIN_WEB_LINES * p.print.line_width_mm / 2
-            + p.print.clearance_sliding_mm)
-
-
 def tendon_level_mm(p: Params, joint: int, side: int) -> float:
     """Height of joint ``joint``'s (0-based) ``side`` cable in the tail: on the hinge lines it crosses and on
-    its tendon sector. Pairs are stacked upward from the axis a pair pitch apart (:func:`tendon_pair_pitch_mm`),
-    the last joint lowest (the tail is smallest there) and joint 1 highest (nearest the spool planes); left
-    cable above right by one level pitch.
+    its tendon sector. Pairs are stacked upward from the axis, the last joint lowest (the tail is smallest
+    there) and joint 1 highest (nearest the spool planes); left cable above right by one level pitch.
     """
     n = p.joints.count
     pitch = tendon_level_pitch_mm(p)
-    return (n - 1 - joint) * tendon_pair_pitch_mm(p) + side * pitch / 2
+    return (n - 1 - joint) * 2 * pitch + side * pitch / 2
 
 
 def tube_seat_shoulder_mm(p: Params) -> float:

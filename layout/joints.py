@@ -263,7 +263,10 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     crossings = cable_crossings(p, j)
     crossing = tuple(cr.point_mm[2] for cr in crossings)
     own = (L.tendon_level_mm(p, j - 1, 1), L.tendon_level_mm(p, j - 1, -1))
-    z_sec_lo, z_sec_hi = own[1] - P / 2, own[0] + P / 2
+    # the sector's floor: P/2 under its lower cable, or, over the tubes of the joints behind, as high as leaves the
+    # parent's bulkhead a web of two line widths between its slot (the sliding clearance under the floor) and them
+    z_sec_lo = own[1] - (P / 2 if not crossings else p.guides.ptfe_tube_od_mm / 2)
+    z_sec_hi = own[0] + P / 2
     hole_d = p.guides.ptfe_tube_od_mm + 2 * cs
     hr = hole_d / 2
     web = L.MIN_WEB_LINES * lw

@@ -115,6 +115,31 @@ def test_a_wedge_tip_is_not_a_wall_and_a_plate_is_as_thick_as_it_is():
         assert w.area_mm2 == pytest.approx(30 * 30, rel=0.05)
 
 
+def test_a_wall_along_the_print_vertical_is_held_to_layers_not_lines():
+    """A 30 x 30 x 0.6 mm plate. Printed flat (the print's vertical along its thickness) it is three 0.2 mm layers
+    and passes a two-layer limit; stood on its edge (the vertical across its thickness) it is a 0.6 mm wall of
+    lines and fails two perimeters. The block with the 0.5 mm side wall keeps failing whichever way is up, when its
+    thin wall runs across the vertical."""
+    import manifold3d as m3d
+    from swiftfin.exports.printability import thin_walls
+    v, f = _manifold_mesh(m3d.Manifold.cube([30.0, 30.0, 0.6]))
+    flat = thin_walls(v, f, 0.9, up=np.array([0.0, 0.0, 1.0]), layered_limit_mm=0.4)
+    assert flat == []
+    on_edge = thin_walls(v, f, 0.9, up=np.array([1.0, 0.0, 0.0]), layered_limit_mm=0.4)
+    assert len(on_edge) == 1           # both faces, 0.6 mm apart: within a region's reach, one region
+    assert on_edge[0].thickness_mm == pytest.approx(0.6, abs=1e-6) and on_edge[0].limit_mm == 0.9
+    assert on_edge[0].area_mm2 == pytest.approx(2 * 30 * 30, rel=0.05)
+    # a film of one layer fails the layered limit too
+    v, f = _manifold_mesh(m3d.Manifold.cube([30.0, 30.0, 0.2]))
+    film = thin_walls(v, f, 0.9, up=np.array([0.0, 0.0, 1.0]), layered_limit_mm=0.4)
+    assert film and all(w.limit_mm == 0.4 for w in film)
+    block = m3d.Manifold.cube([20.0, 20.0, 10.0]) - m3d.Manifold.cube([16.5, 14.0, 7.0]).translate([3.0, 3.0, 3.0])
+    v, f = _manifold_mesh(block)
+    for up in ((0.0, 0.0, 1.0), (0.0, 1.0, 0.0)):
+        found = thin_walls(v, f, 0.9, up=np.array(up), layered_limit_mm=0.4)
+        assert len(found) == 1 and found[0].thickness_mm == pytest.approx(0.5, abs=0.01)
+
+
 def test_the_wall_probe_measures_the_hull_skin_as_the_wall_parameter(default_params, default_parts):
     """On a built hull half, where the skin's normal is along one of its section's axes (the crest, y ~ 0) and the
     hull barely tapers (the head's widest length), the cavity (the section's semi-axes less the wall) lies exactly
