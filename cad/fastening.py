@@ -124,7 +124,8 @@ def seat_cutters(f: Fastener, open_mm: float = 0.0) -> list[bd.Solid]:
         out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.clearance_hole_mm / 2, past + 2 * OVERCUT_MM))
         out.append(_hex_prism(f.point_mm(f.grip_mm), a, s.nut_trap_width_mm, s.nut_trap_depth_mm + open_mm))
     elif f.seat == "self_tap":
-        out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.pilot_hole_mm / 2, past + f.pilot_past_tip_mm + OVERCUT_MM))
+        out.append(_rod(f.point_mm(f.grip_mm - OVERCUT_MM), a, s.pilot_hole_mm / 2,
+                        past + f.pilot_past_tip_mm + OVERCUT_MM))
     elif f.seat == "tapped":
         pass             # a bought part's own tapped hole: nothing to cut
     else:

@@ -63,7 +63,7 @@ class Fastener:
     recess_mm: float = 0.0
     recess_open_toward: tuple[float, float, float] | None = None   # unit, normal to the axis: the counterbore
     # opens to the part's surface that way (a slot), where it would otherwise leave a knife edge on a steep skin
-    pilot_past_tip_mm: float = PILOT_PAST_TIP_MM     # a self-tap pilot runs this far past the tip (PILOT_PAST_TIP_MM, or through)
+    pilot_past_tip_mm: float = PILOT_PAST_TIP_MM     # a self-tap pilot runs this far past the tip (or through)
     installed_after: tuple[str, ...] = ()   # parts put on after it is driven: its key may pass where they go
     meta: dict = field(default_factory=dict, compare=False, hash=False)
 
