@@ -129,11 +129,11 @@ class ThinWall:
                 f"({x:.1f}, {y:.1f}, {z:.1f}) mm")
 
 
-def wall_thickness_samples(vertices: np.ndarray, faces: np.ndarray, seed: int = 0, with_normals: bool = False):
+def wall_thickness_samples(vertices: np.ndarray, faces: np.ndarray, seed: int = 0):
     """Probe points on the surface and the wall behind each: a ray from the point into the part along the inward
     normal to the first face it meets (trimesh with Embree). Returns (points, thickness_mm, is_wall, area per
-    point mm^2), a row per point whose ray met a face; ``is_wall``: the two faces are within 14 deg of
-    antiparallel. ``with_normals``: also the points' outward normals, last."""
+    point mm^2, outward normals), a row per point whose ray met a face; ``is_wall``: the two faces are within
+    14 deg of antiparallel."""
     import trimesh
     mesh = trimesh.Trimesh(np.asarray(vertices, float), np.asarray(faces), process=False)
     n = int(min(PROBE_MAX_SAMPLES, max(1000, mesh.area / PROBE_AREA_PER_SAMPLE_MM2)))
@@ -144,9 +144,7 @@ def wall_thickness_samples(vertices: np.ndarray, faces: np.ndarray, seed: int = 
     hit, ray, tri = mesh.ray.intersects_location(origins, -normals, multiple_hits=False)
     thickness = np.linalg.norm(hit - origins[ray], axis=1) + lift
     is_wall = (mesh.face_normals[tri] * normals[ray]).sum(axis=1) < -WALL_PARALLEL_COS
-    if with_normals:
-        return points[ray], thickness, is_wall, mesh.area / n, normals[ray]
-    return points[ray], thickness, is_wall, mesh.area / n
+    return points[ray], thickness, is_wall, mesh.area / n, normals[ray]
 
 
 WALL_TOLERANCE_MM = 0.005
@@ -166,8 +164,7 @@ def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: i
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
 
-    points, thickness, is_wall, per_point, normals = wall_thickness_samples(vertices, faces, seed,
-                                                                            with_normals=True)
+    points, thickness, is_wall, per_point, normals = wall_thickness_samples(vertices, faces, seed)
     limit = np.full(len(points), float(limit_mm))
     if up is not None and layered_limit_mm is not None:
         u = np.asarray(up, dtype=float) / np.linalg.norm(up)

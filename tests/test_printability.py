@@ -151,7 +151,7 @@ def test_the_wall_probe_measures_the_hull_skin_as_the_wall_parameter(default_par
     p = default_params
     spec = next(s for s in default_parts if s.label == "hull_head_rear_upper")
     m = tessellate(spec.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
-    points, thickness, is_wall, per_point = wall_thickness_samples(m.vertices, m.faces)
+    points, thickness, is_wall, per_point, _ = wall_thickness_samples(m.vertices, m.faces)
     crest = is_wall & (np.abs(points[:, 1]) < 2.0) & (-points[:, 0] > 170.0) & (-points[:, 0] < 230.0) \
         & (points[:, 2] > 40.0)
     assert crest.sum() > 100
