@@ -333,10 +333,10 @@ def layer_core(mesh, R, pm: PrintModel, layer_height_mm: float) -> Core:
             prev_core = empty
             continue
         core = inner
-        for k in range(1, nt + 1):
-            core = core ^ (sections[i + k] if i + k < n else empty)
-        for k in range(1, nb + 1):
-            core = core ^ (sections[i - k] if i - k >= 0 else empty)
+        for k in [*range(1, nt + 1), *range(-1, -nb - 1, -1)]:
+            if core.is_empty():
+                break                              # a skin layer: nothing left to intersect
+            core = core ^ (sections[i + k] if 0 <= i + k < n else empty)
         if EXTERNAL_INFILL_MARGIN_MM > 0 and not core.is_empty():
             skin = inner - core
             if not skin.is_empty():

@@ -247,17 +247,20 @@ class FamilyCache:
                 shutil.rmtree(d, ignore_errors=True)
 
     @staticmethod
-    def entry_key(reads: dict[str, Any]) -> str:
-        return _json_hash(sorted(reads.items()))[:32]
+    def entry_key(reads: dict[str, Any], inputs: str = "") -> str:
+        """The entry of a run that read ``reads`` (parameter key -> value) and, beside the parameters, the inputs
+        whose digest is ``inputs`` ("" for a part family, which reads the parameters only)."""
+        return _json_hash(sorted(reads.items()) if not inputs else [sorted(reads.items()), inputs])[:32]
 
-    def lookup(self, family: str, skey: str, params) -> tuple[str, Any] | None:
-        """(entry key, payload) of a stored run whose recorded keys have the same values in ``params``."""
+    def lookup(self, family: str, skey: str, params, inputs: str = "") -> tuple[str, Any] | None:
+        """(entry key, payload) of a stored run whose recorded keys have the same values in ``params`` (and that
+        read the same other ``inputs``, by their digest)."""
         for keyset in self._keysets(family, skey):
             try:
                 reads = {k: _canonical(get_key(params, k)) for k in keyset}
             except AttributeError:
                 continue
-            ekey = self.entry_key(reads)
+            ekey = self.entry_key(reads, inputs)
             d = self._dir(family, skey) / ekey
             try:
                 with (d / "entry.pkl").open("rb") as fh:
@@ -267,22 +270,23 @@ class FamilyCache:
             return ekey, (d, payload)
         return None
 
-    def memoize(self, name: str, modules: tuple[str, ...], params, fn):
+    def memoize(self, name: str, modules: tuple[str, ...], params, fn, inputs: str = ""):
         """``fn(params)``, stored under the parameter keys it reads (like a part family): a change of any
-        other parameter reuses it."""
+        other parameter reuses it. ``inputs``: the digest of whatever else ``fn`` reads (the parts' meshes of a
+        check on the solids), part of the entry's key. An exception is not stored."""
         skey = self.source_key(name, modules)
-        hit = self.lookup(name, skey, params)
+        hit = self.lookup(name, skey, params, inputs)
         if hit is not None:
             return hit[1][1]
         view, reads = record_reads(params)
         out = fn(view)
-        self.store(name, skey, reads, out, {})
+        self.store(name, skey, reads, out, {}, inputs)
         return out
 
     def store(self, family: str, skey: str, reads: dict[str, Any], payload: Any,
-              breps: dict[str, bytes]) -> str:
+              breps: dict[str, bytes], inputs: str = "") -> str:
         """Write one entry atomically and add its key-set to the family's list. Returns the entry key."""
-        ekey = self.entry_key(reads)
+        ekey = self.entry_key(reads, inputs)
         base = self._dir(family, skey)
         base.mkdir(parents=True, exist_ok=True)
         final = base / ekey

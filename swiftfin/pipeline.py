@@ -248,14 +248,25 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
     placed = placed_parts(result)
     passed = PassedPairs(cache.root / "assembly-pairs") if cache is not None else None
     result.assembly_stats = check_assembly(result.params, placed, progress=progress, passed=passed)
-    result.cable_stats = check_cables_built(result, placed, passed, progress)
-    result.fastener_report = check_fasteners_built(result, placed)
-    result.dry_report = check_dry_wall_built(result, placed)
+    result.cable_stats = check_cables_built(result, placed, passed, progress, cache)
+    result.fastener_report = check_fasteners_built(result, placed, cache)
+    result.dry_report = check_dry_wall_built(result, placed, cache)
     result.assembly_plan = plan_assembly(result, placed, cache, progress)
     result.check_time_s = time.perf_counter() - t0
 
 
-def check_cables_built(result: BuildResult, placed=None, passed=None, progress=None) -> dict:
+def _on_solids(cache: FamilyCache | None, name: str, modules: tuple[str, ...], params, parts, fn):
+    """``fn(params)``, a check on the solids of ``parts`` (cad.assembly.Placed), stored (with a cache) under the
+    parameter keys it reads and the parts' meshes (their digests): a rebuild that changed neither proves nothing
+    again. A failure raises and is never stored."""
+    if cache is None:
+        return fn(params)
+    inputs = sha256_bytes(json.dumps(sorted((q.label, q.digest) for q in parts)).encode())
+    return cache.memoize(name, modules, params, fn, inputs=inputs)
+
+
+def check_cables_built(result: BuildResult, placed=None, passed=None, progress=None,
+                       cache: FamilyCache | None = None) -> dict:
     """The cables and PTFE tubes in the assembly (cad/cables.py): each swept along its route, moving with its links,
     against every built part over the joints' range (the parts among themselves are the rigid check's), and every
     tube seated on its printed shoulder with its mouth open and held both ways (``check_tube_seats``). Only a
@@ -275,7 +286,9 @@ def check_cables_built(result: BuildResult, placed=None, passed=None, progress=N
     stats = check_assembly(p, placed + meshes, progress=progress, passed=passed, focus={q.label for q in meshes})
     built = [q.label for q in placed]
     held = [t for t in tubes if any(lb == t.holder or lb.startswith(t.holder + "_") for lb in built)]
-    seats = check_tube_seats(p, placed, held) if held else {}
+    seats = _on_solids(cache, "check-tube-seats", ("swiftfin.cad.cables",), p, placed,
+                       lambda view: check_tube_seats(view, placed, tube_runs(view))) if len(held) == len(tubes) \
+        else check_tube_seats(p, placed, held) if held else {}
     return {"cable_pieces": len(meshes) - len(tubes), "tubes": len(tubes), **stats,
             **{k: v for k, v in seats.items() if k.startswith("worst")}}
 
@@ -316,7 +329,7 @@ def plan_assembly(result: BuildResult, placed=None, cache: FamilyCache | None = 
                 lambda: plan_steps(result.params, placed, fasteners, glued, memo=paths))
 
 
-def check_dry_wall_built(result: BuildResult, placed=None):
+def check_dry_wall_built(result: BuildResult, placed=None, cache: FamilyCache | None = None):
     """The dry compartment closed on the built solids (cad/dry_check.py): every opening through its wall a declared
     sealed crossing, every cable gland longer than its cable's stroke. BuildError names the part, the opening's
     place and size, or the gland. None when the sealed hull parts were not all built (or none is sealed)."""
@@ -327,20 +340,29 @@ def check_dry_wall_built(result: BuildResult, placed=None):
     labels = sealed_part_labels(result.params)
     if not labels or not set(labels) <= set(mans):
         return None
-    report = check_dry_wall(result.params, mans)
+    sealed = [q for q in placed if q.label in labels]
+    report = _on_solids(cache, "check-dry-wall", ("swiftfin.cad.dry_check",), result.params, sealed,
+                        lambda view: check_dry_wall(view, {lb: mans[lb] for lb in sealed_part_labels(view)}))
     problems = dry_wall_problems(result.params, report)
     if problems:
         raise BuildError("the dry compartment is not closed:\n" + "\n".join(f"  - {pr}" for pr in problems))
     return report
 
 
-def check_fasteners_built(result: BuildResult, placed=None):
+def check_fasteners_built(result: BuildResult, placed=None, cache: FamilyCache | None = None):
     """The fastener rules on the built solids (cad/fastener_check.py); BuildError lists every failure."""
     from swiftfin.cad.fastener_check import check_fasteners
 
     placed = placed_parts(result) if placed is None else placed
-    fasteners, glued = built_fasteners(result, placed)
-    return check_fasteners(result.params, fasteners, {q.label: q.manifold for q in placed}, goes_in_with=glued)
+    _, glued = built_fasteners(result, placed)
+    built = {q.label for q in placed}
+
+    def check(view):
+        from swiftfin.cad.fastening import all_fasteners
+        fasteners = [f for f in all_fasteners(view) if f.parts <= built]
+        return check_fasteners(view, fasteners, {q.label: q.manifold for q in placed}, goes_in_with=glued)
+    return _on_solids(cache, "check-fasteners", ("swiftfin.cad.fastener_check", "swiftfin.cad.fastening"),
+                      result.params, placed, check)
 
 
 # --------------------------------------------------------------------------------------------- writing
