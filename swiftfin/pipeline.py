@@ -255,13 +255,14 @@ def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=
     result.check_time_s = time.perf_counter() - t0
 
 
-def _on_solids(cache: FamilyCache | None, name: str, modules: tuple[str, ...], params, parts, fn):
+def _on_solids(cache: FamilyCache | None, name: str, modules: tuple[str, ...], params, parts, fn, records=()):
     """``fn(params)``, a check on the solids of ``parts`` (cad.assembly.Placed), stored (with a cache) under the
-    parameter keys it reads and the parts' meshes (their digests): a rebuild that changed neither proves nothing
-    again. A failure raises and is never stored."""
+    parameter keys it reads, the parts' meshes (their digests) and ``records`` (the fastener or tube records it
+    is handed, made from the parameters outside it: by their repr): a rebuild that changed none of them proves
+    nothing again. A failure raises and is never stored."""
     if cache is None:
         return fn(params)
-    inputs = sha256_bytes(json.dumps(sorted((q.label, q.digest) for q in parts)).encode())
+    inputs = sha256_bytes(json.dumps([sorted((q.label, q.digest) for q in parts), repr(records)]).encode())
     return cache.memoize(name, modules, params, fn, inputs=inputs)
 
 
@@ -287,8 +288,7 @@ def check_cables_built(result: BuildResult, placed=None, passed=None, progress=N
     built = [q.label for q in placed]
     held = [t for t in tubes if any(lb == t.holder or lb.startswith(t.holder + "_") for lb in built)]
     seats = _on_solids(cache, "check-tube-seats", ("swiftfin.cad.cables",), p, placed,
-                       lambda view: check_tube_seats(view, placed, tube_runs(view))) if len(held) == len(tubes) \
-        else check_tube_seats(p, placed, held) if held else {}
+                       lambda view: check_tube_seats(view, placed, held), records=held) if held else {}
     return {"cable_pieces": len(meshes) - len(tubes), "tubes": len(tubes), **stats,
             **{k: v for k, v in seats.items() if k.startswith("worst")}}
 
@@ -354,15 +354,11 @@ def check_fasteners_built(result: BuildResult, placed=None, cache: FamilyCache |
     from swiftfin.cad.fastener_check import check_fasteners
 
     placed = placed_parts(result) if placed is None else placed
-    _, glued = built_fasteners(result, placed)
-    built = {q.label for q in placed}
-
-    def check(view):
-        from swiftfin.cad.fastening import all_fasteners
-        fasteners = [f for f in all_fasteners(view) if f.parts <= built]
-        return check_fasteners(view, fasteners, {q.label: q.manifold for q in placed}, goes_in_with=glued)
-    return _on_solids(cache, "check-fasteners", ("swiftfin.cad.fastener_check", "swiftfin.cad.fastening"),
-                      result.params, placed, check)
+    fasteners, glued = built_fasteners(result, placed)
+    return _on_solids(cache, "check-fasteners", ("swiftfin.cad.fastener_check",), result.params, placed,
+                      lambda view: check_fasteners(view, fasteners, {q.label: q.manifold for q in placed},
+                                                   goes_in_with=glued),
+                      records=(fasteners, sorted(glued.items())))
 
 
 # --------------------------------------------------------------------------------------------- writing
