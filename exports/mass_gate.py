@@ -85,13 +85,18 @@ def validate(params: Params, report, parts=None, meshes: dict | None = None, mem
             mesh = meshes.get(pt.label)
             if mesh is None:
                 continue
-            if not mesh.is_watertight:
-                raise BuildError(f"part {pt.label}: exported mesh is not watertight")
             part = next((q for q in parts if q.label == pt.label), None) if parts else None
             if part is None:
+                if not mesh.is_watertight:
+                    raise BuildError(f"part {pt.label}: exported mesh is not watertight")
                 continue
+            # the mesh is the part's tessellation at the export's tolerances: stored by the part's content
+            tight, b = memoized(memo, "mesh_props", (part.label,),
+                                [params.export.mesh_tolerance_mm, params.export.mesh_angular_tolerance_deg],
+                                lambda mesh=mesh: (bool(mesh.is_watertight), mesh_volume_props(mesh)))
+            if not tight:
+                raise BuildError(f"part {pt.label}: exported mesh is not watertight")
             a = memoized(memo, "solid_props", (part.label,), None, lambda part=part: solid_volume_props(part.solid))
-            b = mesh_volume_props(mesh)
             if abs(b.volume_mm3 - a.volume_mm3) > GATE_MESH_REL_TOL * a.volume_mm3:
                 raise BuildError(f"part {pt.label}: OCC volume {a.volume_mm3:.6g} mm^3 vs mesh {b.volume_mm3:.6g}"
                                  f" mm^3 differ by more than 1 %")

@@ -46,8 +46,8 @@ from swiftfin.physics.hydrostatics import static_pitch_deg  # noqa: F401  re-exp
 from swiftfin.exports.print_model import (  # noqa: F401
     BRIDGE_EXTRA_SPACING_MM, CORE_METHODS, EXTERNAL_INFILL_MARGIN_MM, INFILL_OVERLAP_FRACTION,
     SOLID_INFILL_BELOW_AREA_MM2, Core, PartMass, PrintModel, _common, _make_solid, _polygon_moments, _translated,
-    _valid, bridge_flow_factor, find_core, layer_core, memoized, occ_core, part_mass, rotation_matrix, to_manifold,
-    voxel_core)
+    _valid, bridge_flow_factor, core_key, find_core, layer_core, memoized, occ_core, part_mass, rotation_matrix,
+    to_manifold, voxel_core)
 from swiftfin.exports.line_masses import (  # noqa: F401
     cable_masses, fastener_masses, link_of_station, ptfe_tube_masses,
     rod_inertial)
@@ -142,6 +142,20 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
     pm = PrintModel.from_params(params)
     meshes = dict(meshes or {})
     unc = uncertainty or default_uncertainty(params)
+    def layers(part, mesh):
+        """The part's layer core from the memo (stage "part_core", which the application may have filled while
+        the later parts were modelled: swiftfin/prefetch.py), or computed into it; None when the layers model
+        is not asked for or cannot take the mesh (part_mass then runs the fallbacks and says so)."""
+        if not part.printed or core_method != "layers" or mesh is None:
+            return None
+        try:
+            return memoized(memo, "part_core", (part.label,),
+                            core_key(pm, params.print.layer_height_mm, part.print_rotation),
+                            lambda: layer_core(mesh, rotation_matrix(part.print_rotation), pm,
+                                               params.print.layer_height_mm))
+        except ValueError:
+            return None
+
     def one(part) -> PartMass:
         mesh = meshes.get(part.label)
         if mesh is None and part.printed:
@@ -150,7 +164,8 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
             props = memoized(memo, "solid_props", (part.label,), None, lambda: solid_volume_props(part.solid))
             return memoized(memo, "part_mass", (part.label,),
                             [dataclasses.asdict(pm), params.print.layer_height_mm, core_method],
-                            lambda: part_mass(part, pm, mesh, params.print.layer_height_mm, core_method, props))
+                            lambda: part_mass(part, pm, mesh, params.print.layer_height_mm, core_method, props,
+                                              layers(part, mesh)))
         except ValueError as exc:
             raise BuildError(f"part {part.label}: mass model failed: {exc}") from exc
 

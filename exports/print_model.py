@@ -37,6 +37,7 @@
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -392,6 +393,12 @@ def layer_core(mesh, R, pm: PrintModel, layer_height_mm: float) -> Core:
     return Core(core_props, side_area, "layers", f"{n} layers of {h:g} mm", overlap)
 
 
+def core_key(pm: PrintModel, layer_height_mm: float, print_rotation) -> list:
+    """What a part's layer core depends on besides its mesh (JSON): the print model, the layer height and the
+    print orientation; the key words under which the application stores it (stage ``part_core``)."""
+    return [dataclasses.asdict(pm), float(layer_height_mm), [float(a) for a in print_rotation]]
+
+
 # ----------------------------------------------------------------------------------------------- parts
 @dataclass(frozen=True)
 class PartMass:
@@ -437,11 +444,12 @@ def find_core(solid, mesh, R, pm: PrintModel, layer_height_mm: float, first: str
 
 
 def part_mass(part, pm: PrintModel, mesh=None, layer_height_mm: float = 0.2, core_method: str = "layers",
-              props: VolumeProps | None = None) -> PartMass:
+              props: VolumeProps | None = None, core: Core | None = None) -> PartMass:
     """Mass properties of one :class:`cad.part.PartSpec`.
 
     ``mesh``: its tessellation in mm (trimesh), needed by the ``layers`` and ``voxel`` core models; ``props``:
-    its B-rep volume properties when already known (:func:`solid_volume_props`).
+    its B-rep volume properties when already known (:func:`solid_volume_props`); ``core``: its layer core when
+    already known (:func:`layer_core` of this mesh in this orientation: the application's stage cache).
     """
     solid = part.solid
     props = props if props is not None else solid_volume_props(solid)
@@ -459,10 +467,12 @@ def part_mass(part, pm: PrintModel, mesh=None, layer_height_mm: float = 0.2, cor
                         "catalogue mass, uniform density over its CAD geometry (OCC)", (), V, 0.0, V, 0.0,
                         full, full, None, None, bbox)
     R = rotation_matrix(part.print_rotation)
-    try:
-        core, flags = find_core(solid, mesh, R, pm, layer_height_mm, core_method)
-    except ValueError as exc:
-        raise BuildError(f"part {part.label}: mass model failed: every core model failed: {exc}") from exc
+    flags: list[str] = []
+    if core is None or core_method != "layers":
+        try:
+            core, flags = find_core(solid, mesh, R, pm, layer_height_mm, core_method)
+        except ValueError as exc:
+            raise BuildError(f"part {part.label}: mass model failed: every core model failed: {exc}") from exc
     full = props.inertial(pm.density_kg_m3)
     items = [full]
     overlap = core.overlap.inertial(pm.density_kg_m3) if core.overlap is not None else None

@@ -16,6 +16,7 @@ frame and the file. The sections are in :mod:`swiftfin.report.sections`, the HTM
 """
 from __future__ import annotations
 
+import dataclasses
 import functools
 import hashlib
 import sys
@@ -117,14 +118,16 @@ STEP_VIEW = (900, 330, 62.0, 30.0)
 
 
 def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Callable[[str], None],
-                    memo=None, jobs: int | None = 1) -> tuple[dict, dict[str, bytes], dict[int, bytes], float]:
+                    memo=None, jobs: int | None = 1, tasks: dict | None = None
+                    ) -> tuple[dict, dict[str, bytes], dict[int, bytes], float]:
     """Every picture of the report, rendered on ``jobs`` processes (one picture each, the largest first):
     the assembly ({'exterior', 'cutaway'}), one picture per printed part and, with ``steps`` (the build's
     ``assembly_steps.json``), one exploded view per step that puts parts in (:func:`step_scenes`).
     Returns (assembly pictures, part pictures by label, step pictures by number, seconds taken).
     ``memo(stage, labels, extra, compute)``: the application's store of pictures and view meshes, keyed by the
-    parts' content (None: render every picture)."""
-    from swiftfin.report.render import MeshItem, png_bytes, render
+    parts' content (None: render every picture). ``tasks``: {name: a function of no arguments} run on the same
+    processes, before the pictures (the plots, the robot's picture); their results replace the functions in it."""
+    from swiftfin.report.render import CREASE_DEG, MeshItem, corner_normals, png_bytes, render
 
     from swiftfin.exports.parallel import map_parts, memoized
 
@@ -147,13 +150,29 @@ def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Calla
     progress(f"rendering the assembly (exterior; cut-away, upper hull halves hidden), {len(printed)} parts and "
              f"{len(drawn)} exploded assembly steps")
 
+    normals: dict[int, np.ndarray] = {}     # by the faces array: a part drawn in up to 24 views, shifted or not
+
+    def with_normals(it: MeshItem) -> MeshItem:
+        if id(it.faces) not in normals:
+            normals[id(it.faces)] = corner_normals(it.vertices, it.faces, CREASE_DEG)
+        return dataclasses.replace(it, normals=normals[id(it.faces)])
+
     def picture(scene) -> bytes:
         _key, what, (w, h, az, el), extra = scene
         return memoized(memo, "picture", tuple(it.name for it in what),
                         [w, h, az, el, [list(it.color) for it in what], [len(it.faces) for it in what]] + extra,
-                        lambda: png_bytes(render(what, w, h, azimuth_deg=az, elevation_deg=el, max_faces=10**9)))
+                        lambda: png_bytes(render([with_normals(it) for it in what], w, h, azimuth_deg=az,
+                                                 elevation_deg=el, max_faces=10**9)))
 
-    pngs = dict(zip((key for key, *_ in scenes), map_parts(picture, scenes, jobs)))
+    names = list(tasks or {})
+
+    def job(item):
+        return tasks[item]() if isinstance(item, str) else picture(item)
+
+    done = map_parts(job, names + scenes, jobs)
+    for name, value in zip(names, done):
+        tasks[name] = value
+    pngs = dict(zip((key for key, *_ in scenes), done[len(names):]))
     out = {name: png for (kind, name), png in pngs.items() if kind == "assembly"}
     pics = {name: png for (kind, name), png in pngs.items() if kind == "part"}
     step_pics = {name: pngs[("step", name)] for name, _scene, _extra in drawn}
@@ -207,7 +226,8 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
                bom: list[dict] | None = None, steps: dict | None = None, solve: dict | None = None,
                solve_name: str = "", rules_note: str = "") -> str:
     """The report page as a string (see :func:`write_report`); ``rules_note``: a line above the rules (what
-    they were evaluated with). ``bom``: the rows of the build's ``bom.csv``;
+    they were evaluated with); ``plots``: the three plots of :func:`standard_plots`, or a function of no arguments
+    that makes them (run on the pictures' processes, beside them). ``bom``: the rows of the build's ``bom.csv``;
     ``steps``: the build's ``assembly_steps.json``; ``solve``: a ``swiftfin solve --json`` result."""
     progress = progress or (lambda msg: None)
     timing = timing if timing is not None else ReportTiming()
@@ -215,34 +235,43 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
     rparts = [as_report_part(x) for x in parts] if parts is not None else None
     pics = part_pics = None
     step_pics = {}
-    if rparts:
-        pics, part_pics, step_pics, timing.render_s = render_pictures(rparts, steps, progress, memo, jobs)
-    t0 = time.perf_counter()
-    progress("plotting the efficiency curves (paper Fig. 8), one tail-beat and the body wave")
+    tasks: dict = {}
     if plots is None:
         try:
             hash(params)
             plot_fn = standard_plots
         except TypeError:   # a Params holding an unhashable value: compute without the cache
             plot_fn = standard_plots.__wrapped__
-        plots = plot_fn(params)
-    eff, beat, wave = plots
-    timing.plots_s = time.perf_counter() - t0
-    robot_pic = None
+        tasks["plots"] = lambda: plot_fn(params)
+    elif callable(plots):
+        tasks["plots"] = plots
     if robot_dir is not None and (robot_dir / "swiftfin.urdf").is_file():
         from swiftfin.report.render import png_bytes, render
         from swiftfin.report.robot import read_robot, robot_items
 
         from swiftfin.exports.parallel import memoized
 
-        progress("rendering the robot's collision shapes, joint axes and link frames")
         robot = read_robot(robot_dir)
         drawn = hashlib.sha256((robot_dir / "swiftfin.urdf").read_bytes())     # what the picture shows
         for path in sorted({c for lk in robot["links"].values() for c in lk["collisions"]}):
             drawn.update(path.read_bytes())
-        robot_pic = memoized(memo, "robot_picture", (), [drawn.hexdigest()],
-                             lambda: png_bytes(render(robot_items(robot), 1200, 430, azimuth_deg=62,
-                                                      elevation_deg=22)))
+        tasks["robot"] = lambda: memoized(memo, "robot_picture", (), [drawn.hexdigest()],
+                                          lambda: png_bytes(render(robot_items(robot), 1200, 430, azimuth_deg=62,
+                                                                   elevation_deg=22)))
+    t0 = time.perf_counter()
+    if tasks:
+        progress("plotting the efficiency curves (paper Fig. 8), one tail-beat and the body wave"
+                 + (", and rendering the robot's collision shapes, joint axes and link frames" if "robot" in tasks
+                    else ""))
+    if rparts:     # the plots and the robot's picture on the same processes as the pictures
+        pics, part_pics, step_pics, timing.render_s = render_pictures(rparts, steps, progress, memo, jobs, tasks)
+    else:
+        from swiftfin.exports.parallel import map_parts
+        tasks = dict(zip(tasks, map_parts(lambda name: tasks[name](), list(tasks), jobs)))
+    plots = tasks.get("plots", plots)
+    eff, beat, wave = plots
+    robot_pic = tasks.get("robot")
+    timing.plots_s = time.perf_counter() - t0
     progress("writing the page")
     body = {
         "overview": overview_section(params, rparts, mass_properties, findings, audit, params_name),

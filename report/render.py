@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import io
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -39,6 +39,7 @@ class MeshItem:
     faces: np.ndarray
     color: tuple[float, float, float]
     name: str = ""
+    normals: np.ndarray | None = field(default=None, compare=False)   # corner_normals(vertices, faces), if known
 
 
 # ----------------------------------------------------------------------------------------------- geometry
@@ -152,20 +153,27 @@ def rasterize(tri_xy: np.ndarray, tri_z: np.ndarray, width: int, height: int):
 
 
 # ----------------------------------------------------------------------------------------------- picture
+CREASE_DEG = 30.0
+"""Faces meeting at more than this keep their own normals at a shared corner (:func:`corner_normals`)."""
+
+
 def render(items: list[MeshItem], width: int = 640, height: int = 400, azimuth_deg: float = 62.0,
            elevation_deg: float = 24.0, supersample: int = 2, max_faces: int = 400_000, margin: float = 0.06,
-           crease_deg: float = 30.0, outline: bool = True, cull_back_faces: bool = True) -> np.ndarray:
+           crease_deg: float = CREASE_DEG, outline: bool = True, cull_back_faces: bool = True) -> np.ndarray:
     """RGBA image (height, width, 4) uint8 of the meshes, fitted to the frame with ``margin`` on each side."""
     items = [it for it in items if len(it.faces)]
     if not items:
         raise ValueError("nothing to render: no triangles")
     total = sum(len(it.faces) for it in items)
-    verts, faces, colors, part = [], [], [], []
+    verts, faces, colors, part, corners = [], [], [], [], []
     offset = 0
     for k, it in enumerate(items):
         v, f = np.asarray(it.vertices, float), np.asarray(it.faces, np.int64)
         if total > max_faces:
             v, f = cluster_decimate(v, f, max(200, int(max_faces * len(it.faces) / total)))
+        # an item's corner normals are its own (items share no vertex): the item's, when it brings them
+        given = it.normals is not None and total <= max_faces and crease_deg == CREASE_DEG
+        corners.append(it.normals if given else corner_normals(v, f, crease_deg))
         verts.append(v)
         faces.append(f + offset)
         offset += len(v)
@@ -193,7 +201,7 @@ def render(items: list[MeshItem], width: int = 640, height: int = 400, azimuth_d
     fbuf = np.where(fbuf >= 0, front_ids[np.maximum(fbuf, 0)], -1)
     hit = fbuf >= 0
     # ---- shading (camera space: the viewer is along +z)
-    cn = corner_normals(V, F, crease_deg) @ R.T   # (m, 3, 3)
+    cn = np.concatenate(corners) @ R.T            # (m, 3, 3)
     fi = fbuf[hit]
     n = np.einsum("pk,pkj->pj", bary[hit], cn[fi])
     n /= np.maximum(np.linalg.norm(n, axis=1), 1e-12)[:, None]

@@ -15,6 +15,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import json
 import os
 import re
@@ -52,6 +53,9 @@ class BuildResult:
     params: Params
     parts: list[BuiltPart]
     family_times_s: dict[str, float] = field(default_factory=dict)
+    #: the bare CAD work in it: each family's modelling, fastener cuts, tessellation and file writes (its time
+    #: without the print checks of its export), and the assembly STEP's composition and write ("assembly.step")
+    cad_times_s: dict[str, float] = field(default_factory=dict)
     check_time_s: float = 0.0
     assembly_stats: dict = field(default_factory=dict)
     fastener_report: object = None     # cad.fastener_check.FastenerReport
@@ -117,7 +121,9 @@ def _content_key(spec: PartSpec, brep: bytes) -> str:
 #: the code each later stage's cached results depend on (StageCache): their modules and what they import
 STAGE_MODULES: dict[str, tuple[str, ...]] = {
     "solid_props": ("swiftfin.exports.brep",),
+    "mesh_props": ("swiftfin.exports.brep",),
     "part_mass": ("swiftfin.exports.print_model",),
+    "part_core": ("swiftfin.exports.print_model",),
     "outside_piece": ("swiftfin.exports.water",),
     "link_mesh": ("swiftfin.exports.robot",),
     "picture": ("swiftfin.report.render",),
@@ -164,10 +170,11 @@ def run_family(name: str, p: Params, cache: FamilyCache | None) -> tuple[list[Bu
     """Build (or fetch from the cache) one family's parts with their exports. Returns (parts, seconds)."""
     from swiftfin.exports.files import export_part
 
-    t0 = time.perf_counter()
     skey = None
     if cache is not None:
-        skey = cache.source_key(name, family_modules(name))
+        skey = cache.source_key(name, family_modules(name))    # the cache's bookkeeping: not the family's time
+    t0 = time.perf_counter()
+    if cache is not None:
         hit = cache.lookup(name, skey, p)
         if hit is not None:
             _, (folder, payload) = hit
@@ -213,15 +220,19 @@ def run_family(name: str, p: Params, cache: FamilyCache | None) -> tuple[list[Bu
 
 
 def build_parts(p: Params, cache: FamilyCache | None = None,
-                progress: Callable[[str], None] | None = None, families: tuple[str, ...] | None = None
-                ) -> BuildResult:
-    """Every family's parts, checked and exported (not yet written)."""
+                progress: Callable[[str], None] | None = None, families: tuple[str, ...] | None = None,
+                prefetch=None) -> BuildResult:
+    """Every family's parts, checked and exported (not yet written). ``prefetch`` (swiftfin.prefetch.Prefetch):
+    handed each family's new parts as it finishes, for the per-part work that needs no other part."""
     result = BuildResult(p, [])
     seen: dict[str, str] = {}
     names = families or tuple(FAMILIES)
     with bar(len(names), "parts", "family", show=progress is not None) as fam_bar:
         for name in names:
+            n0 = len(result.parts)
             _build_family(name, p, cache, result, seen, progress)
+            if prefetch is not None:
+                prefetch.parts(result.parts[n0:], p)
             fam_bar.update()
     return result
 
@@ -230,6 +241,7 @@ def _build_family(name: str, p: Params, cache, result: BuildResult, seen: dict, 
     """One family's parts into ``result`` (``seen``: the labels so far, each with its family)."""
     parts, dt = run_family(name, p, cache)
     result.family_times_s[name] = dt
+    result.cad_times_s[name] = dt - sum(b.export.checks_s for b in parts if not b.cached)
     for b in parts:
         if b.spec.label in seen:
             raise BuildError(f"two parts are labelled {b.spec.label!r} (families '{seen[b.spec.label]}' "
@@ -392,7 +404,9 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
             entry["files"].append(rel)
         parts.append(entry)
     labels = tuple(b.spec.label for b in result.parts)
+    t0 = time.perf_counter()
     data = stage_memo(result, cache)("assembly_step_file", labels, [list(labels)], lambda: assembly_step(result))
+    result.cad_times_s["assembly.step"] = time.perf_counter() - t0
     (folder / "assembly.step").write_bytes(data)
     files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
     files += write_robot_and_report(result, folder, params_file, progress, cache, ros2_package=ros2_package,
@@ -423,7 +437,8 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
     if cache is not None:
         from swiftfin.report.html import standard_plots
 
-        plots = cache.memoize("report-plots", ("swiftfin.report.plots",), result.params, standard_plots.__wrapped__)
+        plots = functools.partial(cache.memoize, "report-plots", ("swiftfin.report.plots",), result.params,
+                                  standard_plots.__wrapped__)    # run by the report beside its pictures
     swimming = None
     if swim:
         if progress:
@@ -506,19 +521,28 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
     outdir.check_out_dir(out, keep)
     outdir.remove_stale_temp_dirs(out)
     tmp = outdir.make_temp_dir(out)
+    prefetch = None
     try:
-        result = build_parts(p, cache, progress)
+        if cache is not None and build_jobs() > 1:
+            from swiftfin.prefetch import Prefetch
+            prefetch = Prefetch(cache.root, STAGE_MODULES["part_core"], build_jobs())
+        result = build_parts(p, cache, progress, prefetch=prefetch)
         if cal is not None:
             result.calibration, result.calibration_changes = cal, changes
         if progress:
             progress("  checking the assembly over the joints' range of motion ...")
         check_built(result, cache, progress)
+        if prefetch is not None:
+            prefetch.close()
         write_outputs(result, tmp, params_file, progress, params_sha256=sha256_bytes(raw), cache=cache,
                       ros2_package=ros2_package, swim=swim)
         outdir.swap_into_place(tmp, out, keep)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
+    finally:
+        if prefetch is not None:
+            prefetch.close(cancel=True)     # after a failure: its results are not waited for
     return result
 
 
