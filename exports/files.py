@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import io
 import re
-import time
 import struct
+import time
 import zipfile
 from dataclasses import dataclass
 from xml.sax.saxutils import escape

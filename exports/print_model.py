@@ -468,7 +468,7 @@ def part_mass(part, pm: PrintModel, mesh=None, layer_height_mm: float = 0.2, cor
                         full, full, None, None, bbox)
     R = rotation_matrix(part.print_rotation)
     flags: list[str] = []
-    if core is None or core_method != "layers":
+    if core is None:
         try:
             core, flags = find_core(solid, mesh, R, pm, layer_height_mm, core_method)
         except ValueError as exc:

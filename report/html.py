@@ -119,14 +119,15 @@ STEP_VIEW = (900, 330, 62.0, 30.0)
 
 def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Callable[[str], None],
                     memo=None, jobs: int | None = 1, tasks: dict | None = None
-                    ) -> tuple[dict, dict[str, bytes], dict[int, bytes], float]:
+                    ) -> tuple[dict, dict[str, bytes], dict[int, bytes], float, dict]:
     """Every picture of the report, rendered on ``jobs`` processes (one picture each, the largest first):
     the assembly ({'exterior', 'cutaway'}), one picture per printed part and, with ``steps`` (the build's
     ``assembly_steps.json``), one exploded view per step that puts parts in (:func:`step_scenes`).
-    Returns (assembly pictures, part pictures by label, step pictures by number, seconds taken).
+    Returns (assembly pictures, part pictures by label, step pictures by number, seconds taken, the tasks'
+    results by name).
     ``memo(stage, labels, extra, compute)``: the application's store of pictures and view meshes, keyed by the
     parts' content (None: render every picture). ``tasks``: {name: a function of no arguments} run on the same
-    processes, before the pictures (the plots, the robot's picture); their results replace the functions in it."""
+    processes, before the pictures (the plots, the robot's picture)."""
     from swiftfin.report.render import CREASE_DEG, MeshItem, corner_normals, png_bytes, render
 
     from swiftfin.exports.parallel import map_parts, memoized
@@ -164,19 +165,18 @@ def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Calla
                         lambda: png_bytes(render([with_normals(it) for it in what], w, h, azimuth_deg=az,
                                                  elevation_deg=el, max_faces=10**9)))
 
-    names = list(tasks or {})
+    tasks = dict(tasks or {})
 
     def job(item):
-        return tasks[item]() if isinstance(item, str) else picture(item)
+        return item() if callable(item) else picture(item)
 
-    done = map_parts(job, names + scenes, jobs)
-    for name, value in zip(names, done):
-        tasks[name] = value
-    pngs = dict(zip((key for key, *_ in scenes), done[len(names):]))
+    done = map_parts(job, list(tasks.values()) + scenes, jobs)
+    results = dict(zip(tasks, done))
+    pngs = dict(zip((key for key, *_ in scenes), done[len(tasks):]))
     out = {name: png for (kind, name), png in pngs.items() if kind == "assembly"}
     pics = {name: png for (kind, name), png in pngs.items() if kind == "part"}
     step_pics = {name: pngs[("step", name)] for name, _scene, _extra in drawn}
-    return out, pics, step_pics, time.perf_counter() - t0
+    return out, pics, step_pics, time.perf_counter() - t0, results
 
 
 def step_scenes(parts: list[ReportPart], steps: dict, view: dict) -> list[tuple[int, list, list]]:
@@ -236,15 +236,20 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
     pics = part_pics = None
     step_pics = {}
     tasks: dict = {}
+
+    def timed_plots(make):
+        t = time.perf_counter()
+        return make(), time.perf_counter() - t
+
     if plots is None:
         try:
             hash(params)
             plot_fn = standard_plots
         except TypeError:   # a Params holding an unhashable value: compute without the cache
             plot_fn = standard_plots.__wrapped__
-        tasks["plots"] = lambda: plot_fn(params)
+        tasks["plots"] = lambda: timed_plots(lambda: plot_fn(params))
     elif callable(plots):
-        tasks["plots"] = plots
+        tasks["plots"] = lambda: timed_plots(plots)
     if robot_dir is not None and (robot_dir / "swiftfin.urdf").is_file():
         from swiftfin.report.render import png_bytes, render
         from swiftfin.report.robot import read_robot, robot_items
@@ -258,20 +263,20 @@ def build_page(params: Params, parts=None, mass_properties: dict | None = None, 
         tasks["robot"] = lambda: memoized(memo, "robot_picture", (), [drawn.hexdigest()],
                                           lambda: png_bytes(render(robot_items(robot), 1200, 430, azimuth_deg=62,
                                                                    elevation_deg=22)))
-    t0 = time.perf_counter()
     if tasks:
         progress("plotting the efficiency curves (paper Fig. 8), one tail-beat and the body wave"
                  + (", and rendering the robot's collision shapes, joint axes and link frames" if "robot" in tasks
                     else ""))
     if rparts:     # the plots and the robot's picture on the same processes as the pictures
-        pics, part_pics, step_pics, timing.render_s = render_pictures(rparts, steps, progress, memo, jobs, tasks)
+        pics, part_pics, step_pics, timing.render_s, results = render_pictures(rparts, steps, progress, memo, jobs,
+                                                                               tasks)
     else:
         from swiftfin.exports.parallel import map_parts
-        tasks = dict(zip(tasks, map_parts(lambda name: tasks[name](), list(tasks), jobs)))
-    plots = tasks.get("plots", plots)
+        results = dict(zip(tasks, map_parts(lambda run: run(), list(tasks.values()), jobs)))
+    if "plots" in results:
+        plots, timing.plots_s = results["plots"]
     eff, beat, wave = plots
-    robot_pic = tasks.get("robot")
-    timing.plots_s = time.perf_counter() - t0
+    robot_pic = results.get("robot")
     progress("writing the page")
     body = {
         "overview": overview_section(params, rparts, mass_properties, findings, audit, params_name),
