@@ -7,6 +7,7 @@ from __future__ import annotations
 import os
 
 _MAP_STATE: tuple = ()      # (fn, items) of the running map_parts, inherited by its forked workers
+_CALL_STATE: dict = {}      # id -> fn of a Forked being started, inherited by its forked process
 
 
 def _map_one(i: int):
@@ -45,6 +46,57 @@ def map_parts(fn, items: list, jobs: int | None = 1) -> list:
             return list(pool.map(_map_one, range(n)))
     finally:
         _MAP_STATE = ()
+
+
+def _call_one(key: int):
+    return _CALL_STATE[key]()
+
+
+def _can_fork() -> bool:
+    import multiprocessing as mp
+    return "fork" in mp.get_all_start_methods() and not mp.current_process().daemon
+
+
+class Forked:
+    """``fn()`` on one forked process while the caller goes on; :meth:`result` returns its value or raises its
+    exception (a process that dies raises BrokenProcessPool). The rule of :func:`map_parts` holds: ``fn`` must
+    not run OpenCascade (the process is forked after the kernel's thread pool has started); only its result
+    crosses back (pickled), so whatever ``fn`` changes in its copy of the caller's objects stays there.
+    With ``run_here`` or where fork is not available (or inside a worker), ``fn`` runs at :meth:`result`."""
+
+    def __init__(self, fn, run_here: bool = False):
+        self._fn, self._pool, self._future, self._done = fn, None, None, False
+        if run_here or not _can_fork():
+            return
+        import multiprocessing as mp
+        from concurrent.futures import ProcessPoolExecutor
+
+        _CALL_STATE[id(self)] = fn
+        try:
+            self._pool = ProcessPoolExecutor(1, mp_context=mp.get_context("fork"))
+            self._future = self._pool.submit(_call_one, id(self))   # fork context: forks here, at the submit
+        finally:
+            _CALL_STATE.pop(id(self), None)
+
+    def result(self):
+        if self._done:
+            raise RuntimeError("Forked.result() called twice")
+        self._done = True
+        if self._future is None:
+            return self._fn()
+        try:
+            return self._future.result()
+        finally:
+            self._pool.shutdown()
+
+    def cancel(self) -> None:
+        """Stop waiting for it (after the caller failed): the process is ended, its result dropped."""
+        if self._pool is None or self._done:
+            return
+        self._done = True
+        for proc in list((getattr(self._pool, "_processes", None) or {}).values()):
+            proc.terminate()
+        self._pool.shutdown(wait=True, cancel_futures=True)
 
 
 def memoized(memo, stage: str, labels: tuple[str, ...], extra, compute):

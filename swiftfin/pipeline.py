@@ -253,6 +253,35 @@ def _build_family(name: str, p: Params, cache, result: BuildResult, seen: dict, 
                      f"{b.time_s:6.2f} s{'  (cached)' if b.cached else ''}")
 
 
+CHECK_FIELDS = ("assembly_stats", "cable_stats", "fastener_report", "dry_report", "assembly_plan", "check_time_s")
+"""What :func:`check_built` fills in on the BuildResult."""
+
+
+def start_checks(result: BuildResult, cache: FamilyCache | None = None, progress=None):
+    """:func:`check_built` on a forked process (exports.parallel.Forked) while the build writes the parts, the
+    assembly STEP and the robot: the checks read meshes only, never the CAD kernel, and take as long as those
+    (a cold build of the default design: about 30 s each). Returns ``join()``, which waits for them, fills in
+    ``result`` (:data:`CHECK_FIELDS`) and raises their BuildError. With one job (``$SWIFTFIN_JOBS`` = 1) they
+    run at ``join()``, in this process."""
+    from swiftfin.exports.parallel import Forked
+
+    def checks():
+        check_built(result, cache, progress)
+        return {k: getattr(result, k) for k in CHECK_FIELDS}
+
+    job = Forked(checks, run_here=build_jobs() <= 1)
+    joined = []
+
+    def join() -> None:
+        if joined:             # once: a second call (after a failure in the writing) has nothing more to say
+            return
+        joined.append(True)
+        for k, v in job.result().items():
+            setattr(result, k, v)
+    join.cancel = job.cancel
+    return join
+
+
 def check_built(result: BuildResult, cache: FamilyCache | None = None, progress=None) -> None:
     from swiftfin.cad.assembly import PassedPairs, check_assembly
 
@@ -383,10 +412,14 @@ def assembly_step(result: BuildResult) -> bytes:
 
 def write_outputs(result: BuildResult, folder: Path, params_file: Path,
                   progress: Callable[[str], None] | None = None, params_sha256: str | None = None,
-                  cache: FamilyCache | None = None, ros2_package: bool = False, swim: bool = False) -> dict:
+                  cache: FamilyCache | None = None, ros2_package: bool = False, swim: bool = False,
+                  checks: Callable[[], None] | None = None) -> dict:
     """Write every file of the build into ``folder`` (which exists and is empty): the parts, the assembly, the
     robot for the simulators with ``mass_properties.json`` (exports.robot; with ``ros2_package`` also its ROS 2
-    description package) and ``report.html``. Returns the manifest, which lists them all."""
+    description package) and ``report.html``. Returns the manifest, which lists them all. ``checks``: the
+    running checks' ``join`` (:func:`start_checks`), waited for before the first file that needs their findings
+    (the bill of materials, the assembly steps, the report); a failure in them is raised before one of the
+    writing's own."""
     (folder / "parts").mkdir()
     files = []
     parts = []
@@ -404,13 +437,19 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
             entry["files"].append(rel)
         parts.append(entry)
     labels = tuple(b.spec.label for b in result.parts)
-    t0 = time.perf_counter()
-    data = stage_memo(result, cache)("assembly_step_file", labels, [list(labels)], lambda: assembly_step(result))
-    result.cad_times_s["assembly.step"] = time.perf_counter() - t0
-    (folder / "assembly.step").write_bytes(data)
-    files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
-    files += write_robot_and_report(result, folder, params_file, progress, cache, ros2_package=ros2_package,
-                                    swim=swim)
+    try:
+        t0 = time.perf_counter()
+        data = stage_memo(result, cache)("assembly_step_file", labels, [list(labels)],
+                                         lambda: assembly_step(result))
+        result.cad_times_s["assembly.step"] = time.perf_counter() - t0
+        (folder / "assembly.step").write_bytes(data)
+        files.append({"path": "assembly.step", "sha256": sha256_bytes(data), "bytes": len(data)})
+        files += write_robot_and_report(result, folder, params_file, progress, cache, ros2_package=ros2_package,
+                                        swim=swim, checks=checks)
+    except Exception:
+        if checks is not None:
+            checks()     # a check's failure first, as a build that checks before it writes would say
+        raise
     manifest = make_manifest(files, parts, params_file, params_sha256)
     (folder / MANIFEST_NAME).write_text(manifest_text(manifest))
     return manifest
@@ -419,9 +458,10 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
 def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
                            progress: Callable[[str], None] | None = None,
                            cache: FamilyCache | None = None, ros2_package: bool = False,
-                           swim: bool = False) -> list[dict]:
+                           swim: bool = False, checks: Callable[[], None] | None = None) -> list[dict]:
     """Mass properties with their validation gate, the simulator files (exports.robot) and report.html, into
-    ``folder``; returns their manifest entries. BuildError names the part or link that fails the gate."""
+    ``folder``; returns their manifest entries. BuildError names the part or link that fails the gate.
+    ``checks``: see :func:`write_outputs`."""
     from swiftfin.exports.robot import write_robot
     if progress:
         progress("  mass properties, validation gate and simulator files ...")
@@ -429,6 +469,8 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
     robot = write_robot(result.params, [b.spec for b in result.parts], folder,
                         meshes={b.spec.label: b.export.mesh for b in result.parts}, memo=memo, jobs=build_jobs(),
                         ros2_package=ros2_package, calibration=result.calibration)
+    if checks is not None:
+        checks()
     bom_file = write_bom(result, folder)
     steps_file = write_assembly_steps(result, folder)
     if progress:
@@ -521,7 +563,7 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
     outdir.check_out_dir(out, keep)
     outdir.remove_stale_temp_dirs(out)
     tmp = outdir.make_temp_dir(out)
-    prefetch = None
+    prefetch = checks = None
     try:
         if cache is not None and build_jobs() > 1:
             from swiftfin.prefetch import Prefetch
@@ -531,11 +573,12 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
             result.calibration, result.calibration_changes = cal, changes
         if progress:
             progress("  checking the assembly over the joints' range of motion ...")
-        check_built(result, cache, progress)
+        checks = start_checks(result, cache, progress)     # beside the writing; joined before the report
         if prefetch is not None:
             prefetch.close()
         write_outputs(result, tmp, params_file, progress, params_sha256=sha256_bytes(raw), cache=cache,
-                      ros2_package=ros2_package, swim=swim)
+                      ros2_package=ros2_package, swim=swim, checks=checks)
+        checks()                            # joined already by the report; never into place unchecked
         outdir.swap_into_place(tmp, out, keep)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
@@ -543,6 +586,8 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
     finally:
         if prefetch is not None:
             prefetch.close(cancel=True)     # after a failure: its results are not waited for
+        if checks is not None:
+            checks.cancel()                 # likewise (nothing to do once joined)
     return result
 
 

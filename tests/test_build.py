@@ -11,6 +11,7 @@ from swiftfin.cad import registry
 from swiftfin.exports.manifest import verify_manifest
 from swiftfin import pipeline
 from swiftfin.cli import main
+from swiftfin.core.errors import BuildError
 from swiftfin.core.params import dump_toml
 from tests.conftest import DEFAULT_DESIGN, session_cache_dir
 
@@ -129,6 +130,35 @@ def test_one_family_build_writes_files_and_manifest(env, monkeypatch, capsys):
     first = (env / "out" / "manifest.json").read_text()
     assert main(["build", "design.toml", "--out", "out"]) == 0
     assert (env / "out" / "manifest.json").read_text() == first
+
+
+def _fin_only(monkeypatch):
+    monkeypatch.setattr(registry, "FAMILIES", {"fin": registry.FAMILIES["fin"]})
+    monkeypatch.setattr(pipeline, "FAMILIES", registry.FAMILIES)
+
+
+def _failing_check(result, cache=None, progress=None):
+    raise BuildError("assembly: caudal_fin meets hull_peduncle_upper by 0.4 mm at joint 4 = 20 deg")
+
+
+@pytest.mark.parametrize("writing", ["passes", "fails too"])
+def test_a_failing_check_beside_the_writing_refuses_the_build(env, monkeypatch, capsys, writing):
+    """The checks run on a forked process while the parts, the STEP and the robot are written: their failure
+    still refuses the build (exit 1, no folder), and comes first when the writing fails as well."""
+    (env / "design.toml").write_text(dump_toml())
+    _fin_only(monkeypatch)
+    monkeypatch.setattr(pipeline, "check_built", _failing_check)
+
+    def robot(*args, **kwargs):
+        if writing == "fails too":
+            raise BuildError("mass properties: link 4 fails the gate")
+        return []        # a writer that never joins the checks: the build joins them before the swap
+
+    monkeypatch.setattr(pipeline, "write_robot_and_report", robot)
+    assert main(["build", "design.toml", "--out", "out"]) == 1
+    err = capsys.readouterr().err
+    assert "caudal_fin meets hull_peduncle_upper" in err and "link 4 fails the gate" not in err
+    assert not (env / "out").exists() and leftovers(env) == []
 
 
 @pytest.mark.slow

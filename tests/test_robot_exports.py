@@ -305,3 +305,31 @@ def test_the_joint_fits_link_prior_agrees_with_the_built_links(default_robot, de
         prior = hinge_inertia(p, j)
         assert 0.65 * built <= prior.links_kg_m2 <= built, (j, prior.links_kg_m2, built)
         assert prior.entrained_kg_m2 == pytest.approx(carried, rel=0.6), (j, prior.entrained_kg_m2, carried)
+
+
+def test_coarsening_rounds_start_where_decimation_reaches_the_budget():
+    from swiftfin.exports.robot import REDUCTION_REACHED, coarsening_rounds
+    assert coarsening_rounds(19_000, 20_000) == 0
+    assert coarsening_rounds(int(REDUCTION_REACHED * 20_000), 20_000) == 0
+    assert coarsening_rounds(320_516, 20_000) == 2          # the default head: 320 516 -> ~104 000 expected
+    assert coarsening_rounds(10**12, 20_000) == 7            # bounded: the last round always decimates
+
+
+@pytest.mark.slow
+def test_the_head_visual_mesh_skips_only_passes_that_stall(default_params, default_parts):
+    """The rounds skipped on the default head would not have reached the budget: decimating the last skipped
+    tessellation (deflection x2) stalls above it, so starting coarser changes no output, only the time."""
+    import trimesh
+    from swiftfin.exports.robot import as_trimesh, coarsening_rounds, decimate
+    e = default_params.export
+    head = [q for q in default_parts if q.link == 0]
+    meshes = {q.label: massprops.tessellate(q.solid, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg)
+              for q in head}
+    n = sum(len(m.faces) for m in meshes.values())
+    first = coarsening_rounds(n, e.visual_triangle_budget)
+    assert first >= 1, n
+    tol = e.mesh_tolerance_mm * 2 ** (first - 1)
+    ang = min(45.0, e.mesh_angular_tolerance_deg * 1.5 ** (first - 1))
+    finer = trimesh.util.concatenate([as_trimesh(massprops.tessellate(q.solid, tol, ang)) for q in head])
+    assert len(decimate(finer, e.visual_triangle_budget).faces) > e.visual_triangle_budget
+    # the round it starts from reaches the budget: test_meshes_are_in_metres_and_within_budget (the default robot)
