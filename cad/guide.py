@@ -32,6 +32,7 @@ and the radius.
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, replace
 
@@ -311,8 +312,13 @@ def _with_seats(p: Params, b: GuideBlock) -> GuideBlock:
                    tube_seats_mm=tuple(q for q in seats if q[2] is not None))
 
 
+@functools.lru_cache(maxsize=64)
 def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
-    """The exit guides (motors 2..N) and the bay guide. Raises UserError if a bend does not fit."""
+    """The exit guides (motors 2..N) and the bay guide. Raises UserError if a bend does not fit.
+
+    Memoised on the params, as :func:`swiftfin.layout.hull_plan.hull_pieces` (the mounts, the guides, the
+    fasteners and the tubes ask for them: 0.85 s a time, most of it the tubes' seats; a family cache's recording
+    view is equal only to itself, so it never receives blocks computed without recording its reads)."""
     g, pr = p.guides, p.print
     d = spool_dims(p)
     c = assembly_gap_mm(p)

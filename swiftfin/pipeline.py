@@ -477,10 +477,10 @@ def write_robot_and_report(result: BuildResult, folder: Path, params_file: Path,
         progress("  design report ...")
     plots = None
     if cache is not None:
-        from swiftfin.report.html import standard_plots
+        from swiftfin.prefetch import report_plots
 
-        plots = functools.partial(cache.memoize, "report-plots", ("swiftfin.report.plots",), result.params,
-                                  standard_plots.__wrapped__)    # run by the report beside its pictures
+        # drawn by the build's prefetch worker, or here by the report beside its pictures
+        plots = functools.partial(report_plots, cache, result.params)
     swimming = None
     if swim:
         if progress:
@@ -568,6 +568,7 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
         if cache is not None and build_jobs() > 1:
             from swiftfin.prefetch import Prefetch
             prefetch = Prefetch(cache.root, STAGE_MODULES["part_core"], build_jobs())
+            prefetch.plots(p)
         result = build_parts(p, cache, progress, prefetch=prefetch)
         if cal is not None:
             result.calibration, result.calibration_changes = cal, changes

@@ -41,6 +41,28 @@ def _core_job(root: str, modules: tuple[str, ...], key: list, vertices, faces, p
     return True
 
 
+PLOTS_STAGE = ("report-plots", ("swiftfin.report.plots",))
+"""The family-cache entry of the report's plots (name, modules): :func:`swiftfin.report.html.standard_plots`, a
+function of the parameters alone, stored under the parameter keys they read."""
+
+
+def report_plots(cache, params):
+    """The report's three plots of ``params`` from ``cache`` (swiftfin.cache.FamilyCache), made and stored if it
+    does not hold them."""
+    from swiftfin.report.html import standard_plots
+
+    name, modules = PLOTS_STAGE
+    return cache.memoize(name, modules, params, standard_plots.__wrapped__)
+
+
+def _plots_job(root: str, params) -> bool:
+    """In the worker: the report's plots into the family cache."""
+    from swiftfin.cache import FamilyCache
+
+    report_plots(FamilyCache(root), params)
+    return True
+
+
 class Prefetch:
     """One worker process doing per-part work into the stage cache while the build goes on (see the module)."""
 
@@ -70,6 +92,12 @@ class Prefetch:
             self.futures.append(self.pool.submit(
                 _core_job, self.root, self.modules, key, b.export.mesh.vertices, b.export.mesh.faces,
                 tuple(b.spec.print_rotation), pm, h))
+
+    def plots(self, params) -> None:
+        """Queue the report's plots (matplotlib, about 2 s, the parameters alone), which a rebuild after a change
+        they read would otherwise draw at the end, on the report's critical path."""
+        if self.pool is not None:
+            self.futures.append(self.pool.submit(_plots_job, self.root, params))
 
     def close(self, cancel: bool = False) -> int:
         """Wait for the queued work (``cancel``: only for the job running, dropping the others) and stop the

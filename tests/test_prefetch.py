@@ -55,3 +55,23 @@ def test_a_failed_build_does_not_wait_for_the_queued_cores(default_params, guide
 def test_one_job_means_no_worker(tmp_path):
     pf = Prefetch(tmp_path, STAGE_MODULES["part_core"], jobs=1)
     assert pf.pool is None and pf.close() == 0
+
+
+def test_the_report_takes_the_prefetched_plots_and_they_are_its_own(default_params, tmp_path, monkeypatch):
+    from swiftfin.cache import FamilyCache
+    from swiftfin.prefetch import report_plots
+    from swiftfin.report import html
+
+    p = default_params
+    pf = Prefetch(tmp_path, STAGE_MODULES["part_core"], jobs=2)
+    if pf.pool is None:
+        pytest.skip("no fork on this platform: nothing is prefetched")
+    pf.plots(p)
+    assert pf.close() == 1
+    direct = html.standard_plots.__wrapped__(p)               # drawn here
+
+    def not_again(*a, **k):
+        raise AssertionError("the report drew plots the build's worker had drawn")
+    monkeypatch.setattr(html.standard_plots, "__wrapped__", not_again)
+    stored = report_plots(FamilyCache(tmp_path), p)
+    assert [q.png for q in stored] == [q.png for q in direct]   # the same three pictures, byte for byte
