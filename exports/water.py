@@ -177,12 +177,38 @@ def _ballast_part(p: Params, trim: dict) -> PartMass:
                     m / p.environment.ballast_density_kg_m3, 0.0, it, it, None, None, bbox)
 
 
-def _outside_piece(part, x_end_mm: float, big_mm: float) -> VolumeProps | None:
-    """Volume properties of the part of a solid behind the plane x = x_end (None if none of it is)."""
+def _outside_piece(part, x_end_mm: float, big_mm: float, whole=None) -> VolumeProps | None:
+    """Volume properties of the part of a solid behind the plane x = x_end (None if none of it is).
+
+    ``whole``: a function giving the whole solid's properties (the export integrated them already). Where the part
+    lies mostly behind the plane (the caudal fin behind the hull's end: its root tongue alone is ahead), the piece
+    ahead is integrated and taken from the whole, which is exact for volumes and moments: the fin's lofted blade
+    cost 1.9 s to cut and integrate, its tongue 0.03 s, and the two ways agree to 3e-12 of the volume."""
     from build123d import Box, Pos
+    lo, hi = part.solid.bounding_box().min.X, part.solid.bounding_box().max.X
+    if whole is not None and hi > x_end_mm and x_end_mm - lo > hi - x_end_mm:
+        ahead = Pos(x_end_mm + big_mm / 2, 0, 0) * Box(big_mm, big_mm, big_mm)
+        inside = solid_volume_props(_common(_wrapped(part.solid), ahead.wrapped))
+        return _difference(whole(), inside) if inside.volume_mm3 > 0 else whole()
     cut = Pos(x_end_mm - big_mm / 2, 0, 0) * Box(big_mm, big_mm, big_mm)
     pr = solid_volume_props(_common(_wrapped(part.solid), cut.wrapped))
     return pr if pr.volume_mm3 > 0 else None
+
+
+def _difference(whole: VolumeProps, piece: VolumeProps) -> VolumeProps | None:
+    """The properties of ``whole`` less its ``piece`` (a part of it): volumes and first moments subtract; the
+    second moments about the whole's centroid (parallel axes) subtract, then move to the rest's centroid."""
+    v = whole.volume_mm3 - piece.volume_mm3
+    if v <= 0:
+        return None
+    cw, cp = np.asarray(whole.centroid_mm), np.asarray(piece.centroid_mm)
+    c = (whole.volume_mm3 * cw - piece.volume_mm3 * cp) / v
+
+    def shift(d, vol):     # the parallel-axis term of a body of volume vol whose centroid is d from the point
+        return vol * (np.dot(d, d) * np.eye(3) - np.outer(d, d))
+    about_w = np.asarray(whole.second_moment_mm5) - (np.asarray(piece.second_moment_mm5) + shift(cp - cw, piece.volume_mm3))
+    second = about_w - shift(c - cw, v)
+    return VolumeProps(float(v), tuple(float(x) for x in c), tuple(tuple(float(x) for x in row) for row in second))
 
 
 def behind_dry_wall(p: Params, parts, memo=None, meshes: dict | None = None):
@@ -222,8 +248,10 @@ def _fin_outside_volume(p: Params, parts, memo=None, meshes: dict | None = None)
         if x_min - p.export.mesh_tolerance_mm >= x_end:     # the B-rep lies within the mesh tolerance of its mesh
             continue
         big = 4.0 * p.body.length_mm
+        whole = (lambda part=part: memoized(memo, "solid_props", (part.label,), None,
+                                            lambda: solid_volume_props(part.solid)))
         pr = memoized(memo, "outside_piece", (part.label,), [x_end, big],
-                      lambda part=part: _outside_piece(part, x_end, big))
+                      lambda part=part, whole=whole: _outside_piece(part, x_end, big, whole))
         if pr is not None:
             V += pr.volume_mm3
             first = first + pr.volume_mm3 * np.asarray(pr.centroid_mm)

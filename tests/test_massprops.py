@@ -421,3 +421,22 @@ def test_the_default_ballast_leaves_its_link_without_yaw_roll_coupling(default_r
 def test_trim_ballast_refuses_a_sinking_fish(default_params):
     t = mp.trim_ballast(default_params, 2.0, (-0.17, 0, 0), 1.5e-3, (-0.17, 0, 0), (False,) * 5)
     assert not t["possible"] and "sinks" in t["reason"]
+
+
+@pytest.mark.parametrize("x_end", [-20.0, -40.0])
+def test_the_piece_behind_a_plane_by_difference_is_the_piece_cut(x_end):
+    """exports/water._outside_piece: a part mostly behind the plane is integrated ahead of it and taken from the
+    whole; the same numbers as the piece cut and integrated, and as the closed form of a box."""
+    from swiftfin.exports.brep import solid_volume_props
+    from swiftfin.exports.water import _outside_piece
+    part = PartSpec("block", Pos(-30, 2, 3) * Box(40, 20, 30), 4, "fin")     # x from -50 to -10
+    whole = solid_volume_props(part.solid)
+    cut = _outside_piece(part, x_end, 400.0)                       # cut and integrated
+    diff = _outside_piece(part, x_end, 400.0, lambda: whole)       # the whole less the piece ahead
+    a, b, c = x_end + 50, 20.0, 30.0                                # the box behind the plane
+    V = a * b * c
+    closed = np.diag([V * (b * b + c * c), V * (a * a + c * c), V * (a * a + b * b)]) / 12
+    for pr in (cut, diff):
+        assert pr.volume_mm3 == pytest.approx(V, rel=1e-9)
+        assert np.allclose(pr.centroid_mm, (-50 + a / 2, 2, 3), atol=1e-7)
+        assert np.allclose(pr.second_moment_mm5, closed, rtol=1e-9, atol=1e-6 * closed.max())
