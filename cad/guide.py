@@ -314,11 +314,20 @@ def _with_seats(p: Params, b: GuideBlock) -> GuideBlock:
 
 @functools.lru_cache(maxsize=64)
 def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
-    """The exit guides (motors 2..N) and the bay guide. Raises UserError if a bend does not fit.
+    """The exit guides (motors 2..N) and the bay guide, with their tubes' seats. Raises UserError if a bend does
+    not fit.
 
-    Memoised on the params, as :func:`swiftfin.layout.hull_plan.hull_pieces` (the mounts, the guides, the
-    fasteners and the tubes ask for them: 0.85 s a time, most of it the tubes' seats; a family cache's recording
-    view is equal only to itself, so it never receives blocks computed without recording its reads)."""
+    Memoised on the params, as :func:`swiftfin.layout.hull_plan.hull_pieces` (the guides and the tubes ask for
+    them; a family cache's recording view is equal only to itself, so it never receives blocks computed without
+    recording its reads)."""
+    return tuple(_with_seats(p, b) for b in bare_guide_blocks(p))
+
+
+@functools.lru_cache(maxsize=64)
+def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
+    """:func:`guide_blocks` without the tubes' seats (``tube_seats_mm`` empty, no exit hole): what the mounts'
+    posts and every screw read. The seats are most of the blocks' cost (0.85 s on the default design, against
+    about 0.1 s for the rest), and every family cuts its holes from all the design's fasteners."""
     g, pr = p.guides, p.print
     d = spool_dims(p)
     c = assembly_gap_mm(p)
@@ -378,10 +387,10 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
         arcs_x = np.concatenate([arc_points(ch)[:, 0] for ch in chans if ch.angle_rad > 0])
         x_lo = max(x_lo, min(float(arcs_x.min()) - g.ptfe_tube_od_mm, x_post - post_r - wall))
         x_hi = min(x_hi, max(float(arcs_x.max()) + g.ptfe_tube_od_mm, x_post + post_r + wall))
-        blocks.append(_with_seats(p, GuideBlock(
+        blocks.append(GuideBlock(
             label, f"motor_mount_{mp.joint + 1}", (x_lo, x_hi), (-y_half, y_half), zr, _clip_ellipse(p, -x_lo, -x_hi),
             tuple(chans), ((x_post, y_post), (x_post, -y_post)), g.screw_diameter_mm, screw_hole_diameter_mm(p),
-            tuple((x, y, env_r) for x, y in axes))))
+            tuple((x, y, env_r) for x, y in axes)))
     # ---- bay guide: behind the rear spool, on posts at the aft edge of motor_mount_1's plate; it reaches
     # forward over the plate (notched over the plate and the motor's screw heads) and hangs down aft of the
     # motor's frame as far as the descending channels need.
@@ -436,11 +445,11 @@ def guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     notch = (notch_x, seat) if zr[0] < seat else None
     if notch is None:
         seat = zr[0]
-    blocks.append(_with_seats(p, GuideBlock(label, "motor_mount_1", (x_lo, x_hi), (-y_half, y_half), zr,
-                                            _clip_ellipse(p, -x_lo, -x_hi), tuple(chans), screws,
-                                            g.screw_diameter_mm, screw_hole_diameter_mm(p),
-                                            ((rear.x_mm, 0.0, env_r),), seat_z_mm=seat, notch_mm=notch,
-                                            print_rotation=(180.0, 0.0, 0.0))))
+    blocks.append(GuideBlock(label, "motor_mount_1", (x_lo, x_hi), (-y_half, y_half), zr,
+                             _clip_ellipse(p, -x_lo, -x_hi), tuple(chans), screws,
+                             g.screw_diameter_mm, screw_hole_diameter_mm(p),
+                             ((rear.x_mm, 0.0, env_r),), seat_z_mm=seat, notch_mm=notch,
+                             print_rotation=(180.0, 0.0, 0.0)))
     return tuple(blocks)
 
 
@@ -526,7 +535,7 @@ def guide_fasteners(p: Params) -> tuple[Fastener, ...]:
     pieces = hull_pieces(p)
     z_face = {f"motor_mount_{mp.joint + 1}": mp.z_face_mm for mp in motor_placements(p)}
     out = []
-    for b in guide_blocks(p):
+    for b in bare_guide_blocks(p):
         s = fastener(b.screw_diameter_mm)
         length, grip, recess = guide_screw_fit(p, b, b.seat_mm - z_face[b.mount])
         for i, (x, y) in enumerate(b.screw_points_mm):

@@ -34,7 +34,7 @@ import numpy as np
 from swiftfin.cad.kernel import Plane, Polygon, Solid, extrude
 
 from swiftfin.catalogues.fasteners import fastener
-from swiftfin.cad.guide import assembly_gap_mm, guide_blocks, post_radius_mm
+from swiftfin.cad.guide import assembly_gap_mm, bare_guide_blocks, post_radius_mm
 from swiftfin.layout.fastening import Fastener
 from swiftfin.layout.geometry import interior_half_width_at_height_mm, motor_placements, spool_dims
 from swiftfin.layout.mount_plan import WallFixing, motor_screw_fit, wall_fixings, wall_screw
@@ -89,7 +89,7 @@ def mount_numbers(p: Params) -> tuple[MountNumbers, ...]:
     wall = pr.perimeters * pr.line_width_mm
     fixings = wall_fixings(p)
     fit = motor_screw_fit(p)
-    blocks = guide_blocks(p)
+    blocks = bare_guide_blocks(p)
     r_post = post_radius_mm(p)
     out = []
     for mp in motor_placements(p):
@@ -197,7 +197,7 @@ def mount_fasteners(p: Params) -> tuple[Fastener, ...]:
     from swiftfin.layout.hull_plan import head_lid_labels, hull_pieces, part_label
     pieces = hull_pieces(p)
     lid = head_lid_labels(p)      # the head's upper halves go on after the motors are screwed to their mounts
-    blocks = guide_blocks(p)
+    blocks = bare_guide_blocks(p)
     s = wall_screw(p)
     fit = motor_screw_fit(p)
     key_r = fastener(fit.size).key_reach_diameter_mm / 2

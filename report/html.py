@@ -128,7 +128,7 @@ def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Calla
     ``memo(stage, labels, extra, compute)``: the application's store of pictures and view meshes, keyed by the
     parts' content (None: render every picture). ``tasks``: {name: a function of no arguments} run on the same
     processes, before the pictures (the plots, the robot's picture)."""
-    from swiftfin.report.render import CREASE_DEG, MeshItem, corner_normals, png_bytes, render
+    from swiftfin.report.render import CREASE_DEG, MeshItem, corner_normals, load_kernel, png_bytes, render
 
     from swiftfin.exports.parallel import map_parts, memoized
 
@@ -170,6 +170,7 @@ def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Calla
     def job(item):
         return item() if callable(item) else picture(item)
 
+    load_kernel()          # once here, not once in each forked worker
     done = map_parts(job, list(tasks.values()) + scenes, jobs)
     results = dict(zip(tasks, done))
     pngs = dict(zip((key for key, *_ in scenes), done[len(tasks):]))

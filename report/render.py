@@ -152,6 +152,13 @@ def rasterize(tri_xy: np.ndarray, tri_z: np.ndarray, width: int, height: int):
     return zbuf.reshape(height, width), fbuf.reshape(height, width), bbuf.reshape(height, width, 3)
 
 
+def load_kernel() -> None:
+    """Load the compiled z-buffer loop into this process (numba reads it from its cache: about 0.7 s the first
+    time in a process). Called before the pictures are handed to forked workers, which then inherit it instead
+    of each loading it again."""
+    rasterize(np.zeros((1, 3, 2)), np.zeros((1, 3)), 2, 2)
+
+
 # ----------------------------------------------------------------------------------------------- picture
 CREASE_DEG = 30.0
 """Faces meeting at more than this keep their own normals at a shared corner (:func:`corner_normals`)."""
