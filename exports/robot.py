@@ -138,34 +138,37 @@ def part_collision_hull(mesh, origin_m):
     return v, np.asarray(m.faces)
 
 
-def _link_mesh_pair(members, meshes: dict, origin_m, budget: int, tol_mm: float, ang_deg: float):
-    """(visual mesh, [one convex hull per part]) of a link, in its frame [m]."""
+def _link_mesh_files(name: str, members, meshes: dict, origin_m, budget: int, tol_mm: float,
+                     ang_deg: float) -> dict[str, bytes]:
+    """The OBJ files of a link's visual mesh and its convex hulls (one per part), in its frame [m]."""
     visual = link_visual_mesh(members, meshes, origin_m, budget, tol_mm, ang_deg)
-    hulls = [part_collision_hull(meshes[p.label], origin_m) for p in members]
-    return (np.asarray(visual.vertices), np.asarray(visual.faces)), hulls
+    files = {visual_mesh_file(name): (np.asarray(visual.vertices), np.asarray(visual.faces))}
+    for k, p in enumerate(members):
+        files[collision_mesh_file(name, k)] = part_collision_hull(meshes[p.label], origin_m)
+    return {fn: obj_bytes(v, f, f"swiftfin {fn} (m, link frame)") for fn, (v, f) in files.items()}
 
 
-def link_meshes(params, report: massprops.MassReport, meshes: dict, parts, memo=None,
-                jobs: int | None = 1) -> dict[str, tuple]:
-    """{file name: (vertices [m], faces)} of every link's visual and collision mesh, in the link frame.
-    ``memo``: the application's store of results per link (exports.parallel.memoized), keyed by the member parts;
-    ``jobs``: processes, one link each (exports.parallel.map_parts)."""
+def link_mesh_files(params, report: massprops.MassReport, meshes: dict, parts, memo=None,
+                    jobs: int | None = 1) -> dict[str, bytes]:
+    """{file name: OBJ bytes} of every link's visual and collision meshes (metres, the link frame).
+    ``memo``: the application's store of results per link (exports.parallel.memoized), keyed by the member parts
+    (the files themselves are stored: writing the text of a link's meshes is most of a warm rebuild's cost for
+    them); ``jobs``: processes, one link each (exports.parallel.map_parts)."""
     e = params.export
     by_label = {p.label: p for p in parts}
 
     def one(lk):
         members = [by_label[label] for label in lk.parts if label in by_label]     # cables: no solid
-        extra = [list(lk.origin_m), e.visual_triangle_budget, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg]
+        extra = [lk.name, list(lk.origin_m), e.visual_triangle_budget, e.mesh_tolerance_mm,
+                 e.mesh_angular_tolerance_deg]
         return memoized(
             memo, "link_mesh", tuple(p.label for p in members), extra,
-            lambda: _link_mesh_pair(members, meshes, lk.origin_m, e.visual_triangle_budget, e.mesh_tolerance_mm,
-                                    e.mesh_angular_tolerance_deg))
+            lambda: _link_mesh_files(lk.name, members, meshes, lk.origin_m, e.visual_triangle_budget,
+                                     e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg))
 
     out = {}
-    for lk, (visual, hulls) in zip(report.links, map_parts(one, list(report.links), jobs)):
-        out[visual_mesh_file(lk.name)] = visual
-        for k, hull in enumerate(hulls):
-            out[collision_mesh_file(lk.name, k)] = hull
+    for files in map_parts(one, list(report.links), jobs):
+        out.update(files)
     return out
 
 
@@ -216,8 +219,8 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
     try:
         (tmp / "meshes").mkdir()
         mesh_bytes = {}
-        for name, (v, f) in link_meshes(params, report, meshes, parts, memo, jobs).items():
-            mesh_bytes[name] = obj_bytes(v, f, f"swiftfin {name} (m, link frame)")
+        for name, data in link_mesh_files(params, report, meshes, parts, memo, jobs).items():
+            mesh_bytes[name] = data
             (tmp / name).write_bytes(mesh_bytes[name])
         (tmp / f"{ROBOT_NAME}.urdf").write_bytes(urdf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.xml").write_bytes(mjcf_bytes(robot))
