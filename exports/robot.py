@@ -109,18 +109,19 @@ def link_visual_mesh(parts, meshes: dict, origin_m, budget: int, tolerance_mm: f
     (x2 per round, the angular tolerance x1.5 up to 45 deg) and decimated again. Far above the budget the rounds
     start coarser (:func:`coarsening_rounds`), and a tessellation still too far above it is not decimated. On the
     default head this reaches the mesh the rounds from the export tessellation reached, without their two stalled
-    passes (12.9 s -> 2.9 s, tested in tests/test_robot_export.py)."""
+    passes (12.9 s -> 3.2 s; tests/test_robot_exports.py proves the skipped round stalls)."""
     import trimesh
     tol, ang = tolerance_mm, angular_deg
     pieces = [as_trimesh(meshes[p.label]) for p in parts]
     first = coarsening_rounds(sum(len(m.faces) for m in pieces), budget)
     for k in range(8):
         if k > 0:
-            tol, ang = 2 * tol, min(45.0, 1.5 * ang)
-            if k < first:
-                continue
+            tol, ang = 2 * tol, min(45.0, 1.5 * ang)      # stepped, not 2**k: the same floats as round by round
+        if k < first:
+            continue
+        if k > 0:
             pieces = [massprops.tessellate(p.solid, tol, ang) for p in parts]
-        if k < first or (sum(len(m.faces) for m in pieces) > REDUCTION_REACHED * budget and k < 7):
+        if sum(len(m.faces) for m in pieces) > REDUCTION_REACHED * budget and k < 7:
             continue                                # it would stall: coarser first
         merged = trimesh.util.concatenate(pieces)
         merged.apply_translation(-units.length_mm(np.asarray(origin_m)))
@@ -218,10 +219,9 @@ def write_robot(params, parts, out_dir, meshes: dict | None = None,
     tmp = Path(tempfile.mkdtemp(prefix=".robot-", dir=out_dir))
     try:
         (tmp / "meshes").mkdir()
-        mesh_bytes = {}
-        for name, data in link_mesh_files(params, report, meshes, parts, memo, jobs).items():
-            mesh_bytes[name] = data
-            (tmp / name).write_bytes(mesh_bytes[name])
+        mesh_bytes = link_mesh_files(params, report, meshes, parts, memo, jobs)
+        for name, data in mesh_bytes.items():
+            (tmp / name).write_bytes(data)
         (tmp / f"{ROBOT_NAME}.urdf").write_bytes(urdf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.xml").write_bytes(mjcf_bytes(robot))
         (tmp / f"{ROBOT_NAME}.sdf").write_bytes(sdf_bytes(robot))

@@ -117,6 +117,10 @@ PLACED_COLOR = (0.80, 0.80, 0.80)
 STEP_VIEW = (900, 330, 62.0, 30.0)
 
 
+class _NotStored(Exception):
+    """A picture the store does not hold (render_pictures looks them up before it hands out the rest)."""
+
+
 def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Callable[[str], None],
                     memo=None, jobs: int | None = 1, tasks: dict | None = None
                     ) -> tuple[dict, dict[str, bytes], dict[int, bytes], float, dict]:
@@ -158,22 +162,33 @@ def render_pictures(parts: list[ReportPart], steps: dict | None, progress: Calla
             normals[id(it.faces)] = corner_normals(it.vertices, it.faces, CREASE_DEG)
         return dataclasses.replace(it, normals=normals[id(it.faces)])
 
-    def picture(scene) -> bytes:
+    def picture(scene, compute=None) -> bytes:
         _key, what, (w, h, az, el), extra = scene
         return memoized(memo, "picture", tuple(it.name for it in what),
                         [w, h, az, el, [list(it.color) for it in what], [len(it.faces) for it in what]] + extra,
-                        lambda: png_bytes(render([with_normals(it) for it in what], w, h, azimuth_deg=az,
-                                                 elevation_deg=el, max_faces=10**9)))
+                        compute or (lambda: png_bytes(render([with_normals(it) for it in what], w, h,
+                                                             azimuth_deg=az, elevation_deg=el, max_faces=10**9))))
 
+    def not_stored():
+        raise _NotStored       # raised before the store writes anything: a lookup only
+
+    pngs = {}
+    for scene in scenes:       # the stored pictures here; only the others go to the workers
+        try:
+            pngs[scene[0]] = picture(scene, not_stored)
+        except _NotStored:
+            pass
+    todo = [scene for scene in scenes if scene[0] not in pngs]
     tasks = dict(tasks or {})
 
     def job(item):
         return item() if callable(item) else picture(item)
 
-    load_kernel()          # once here, not once in each forked worker
-    done = map_parts(job, list(tasks.values()) + scenes, jobs)
+    if todo:
+        load_kernel()          # once here, not once in each forked worker
+    done = map_parts(job, list(tasks.values()) + todo, jobs)
     results = dict(zip(tasks, done))
-    pngs = dict(zip((key for key, *_ in scenes), done[len(tasks):]))
+    pngs.update(zip((key for key, *_ in todo), done[len(tasks):]))
     out = {name: png for (kind, name), png in pngs.items() if kind == "assembly"}
     pics = {name: png for (kind, name), png in pngs.items() if kind == "part"}
     step_pics = {name: pngs[("step", name)] for name, _scene, _extra in drawn}
