@@ -69,6 +69,7 @@ class FastenerReport:
     fasteners: tuple[Fastener, ...]
     walls: list[WallMeasure]
     problems: list[str]
+    mating_pairs: tuple = ()       # (a, b, how joined) of every touching pair of the contact table (mating_pairs)
 
     def worst_wall(self) -> WallMeasure | None:
         return min(self.walls, key=lambda w: w.wall_mm - w.limit_mm, default=None)
@@ -208,11 +209,12 @@ def tool_path_problems(f: Fastener, manifolds: dict, goes_in_with: dict | None =
 
 
 def check_fasteners(p: Params, fasteners, manifolds: dict, raise_on_failure: bool = True,
-                    goes_in_with: dict | None = None) -> FastenerReport:
+                    goes_in_with: dict | None = None, placed=None) -> FastenerReport:
     """Every fastener rule on the solids. ``manifolds``: label -> manifold3d.Manifold of every part at rest;
     ``goes_in_with``: label -> the part it is glued into (it goes on when that part does: a flotation block with
-    its lower half). Raises BuildError listing every failure (``raise_on_failure``), else returns them in the
-    report."""
+    its lower half); ``placed`` (cad.assembly.Placed of every part, optional): every pair of the contact table that
+    touches must be joined by a fastener or declared in :data:`GLUED` (:func:`unfastened_contacts`). Raises
+    BuildError listing every failure (``raise_on_failure``), else returns them in the report."""
     fasteners = tuple(fasteners)
     walls, problems = [], []
     lw, n = p.print.line_width_mm, p.rules.wall_min_line_widths
@@ -222,7 +224,12 @@ def check_fasteners(p: Params, fasteners, manifolds: dict, raise_on_failure: boo
         walls += w
         problems += pr
         problems += tool_path_problems(f, manifolds, goes_in_with)
-    report = FastenerReport(fasteners, walls, problems)
+    mates = ()
+    if placed is not None:
+        mates = tuple(mating_pairs(p, placed, fasteners))
+        problems += [f"{a} and {b} touch ({how[len('nothing ('):-1]}) but no fastener joins them and they are not "
+                     f"declared glued" for a, b, how in mates if how.startswith("nothing")]
+    report = FastenerReport(fasteners, walls, problems, mates)
     if problems and raise_on_failure:
         raise BuildError(f"{len(problems)} fastener check(s) failed:\n" + "\n".join(f"  - {x}" for x in problems))
     return report
@@ -231,11 +238,17 @@ def check_fasteners(p: Params, fasteners, manifolds: dict, raise_on_failure: boo
 # --------------------------------------------------------------------------------------------- mating pairs
 @dataclass(frozen=True)
 class Glued:
-    """A pair of parts joined by glue instead of fasteners, with the bonded area and why."""
-    a: str                 # regular expressions over the labels, as in cad/assembly.py's Contact
-    b: str
+    """A pair of parts joined by something other than a fastener record (glue, a pad, a bearing fit), with the
+    bonded area where it is sized and why."""
+    a: str                 # regular expressions over the labels, as in cad/assembly.py's Contact (a named group
+    b: str                 # must capture the same text in both)
     area_mm2: float
     reason: str
+    how: str = "glued"     # "glued" | "pad" | "bearing"
+
+    def matches(self, la: str, lb: str) -> bool:
+        from swiftfin.cad.assembly import Contact
+        return Contact(self.a, self.b, self.reason).matches(la, lb)
 
 
 GLUED: tuple[Glued, ...] = (
@@ -243,8 +256,12 @@ GLUED: tuple[Glued, ...] = (
           "a flotation foam block is glued into its flooded segment's lower shell (its lift, under 0.2 N, needs "
           "no rated bond area: any contact glue holds it; area 0 = not sized). Every other joint comes apart "
           "for service"),
+    Glued(r"spool_(?P<j>\d+)_upper", r"motor_(?P<j>\d+)", 0.0,
+          "the split spool's upper half turns on its motor's shaft (a bearing fit, sliding clearance): it is held "
+          "to the lower half, which the set screw fixes on the shaft, by the index screw", how="bearing"),
 )
-"""Pairs declared glued, with the bonded area (mm^2) where the joint carries a load worth sizing."""
+"""Pairs joined otherwise than by a fastener record: glued (with the bonded area where the joint carries a load
+worth sizing), on a pad, or turning on a bearing fit."""
 
 
 def joined_parts(f: Fastener) -> set[str]:
@@ -253,11 +270,28 @@ def joined_parts(f: Fastener) -> set[str]:
     return ({f.head_part, f.thread_part} | set(f.meta.get("joins_parts", ()))) - {None}
 
 
-def unfastened_contacts(p: Params, placed, fasteners, glued=GLUED) -> list[str]:
-    """Pairs of the contact table (cad/assembly.py) that touch at rest (gap <= print.clearance_sliding_mm) and are
-    neither joined by a fastener nor declared glued."""
-    import re
+def _meet_on_an_edge(p: Params, la: str, lb: str) -> bool:
+    """Two hull parts of one link from different pieces and different halves (the front upper half and the rear
+    lower half): they meet only on the line where the halves' seam plane crosses the pieces' splice, and each is
+    fastened to the two parts it meets face to face."""
+    if not p.hull.split_halves:
+        return False
+    from swiftfin.layout.hull_plan import hull_pieces
+    names = {pc.name for pc in hull_pieces(p)}
+    split = []
+    for label in (la, lb):
+        piece, _, half = label.rpartition("_")
+        if piece not in names or half not in ("upper", "lower"):
+            return False
+        split.append((piece, half))
+    (pa, ha), (pb, hb) = split
+    return pa != pb and ha != hb
 
+
+def mating_pairs(p: Params, placed, fasteners, glued=GLUED) -> list[tuple[str, str, str]]:
+    """Every pair of the contact table (cad/assembly.py) that touches at rest (gap <= print.clearance_sliding_mm),
+    with how it is joined: ``"fastener"`` (a record joins both), ``"glued"``/``"pad"``/``"bearing"`` (declared in
+    ``glued``), ``"edge"`` (two hull halves that meet on a line only) or ``""`` (nothing: a fault)."""
     from swiftfin.cad.assembly import contact_reason
 
     pairs = [joined_parts(f) for f in fasteners]
@@ -272,13 +306,20 @@ def unfastened_contacts(p: Params, placed, fasteners, glued=GLUED) -> list[str]:
             hi = np.minimum(a.bounds[1], b.bounds[1])
             if np.any(lo - hi > gap):
                 continue
-            if a.manifold.min_gap(b.manifold, gap) > gap:
-                continue
-            if any({a.label, b.label} <= j for j in pairs):
-                continue
-            if any((re.fullmatch(g.a, a.label) and re.fullmatch(g.b, b.label))
-                   or (re.fullmatch(g.a, b.label) and re.fullmatch(g.b, a.label)) for g in glued):
-                continue
-            out.append(f"{a.label} and {b.label} touch ({reason}) but no fastener joins them and they are not "
-                       f"declared glued")
+            if a.manifold.min_gap(b.manifold, 2 * gap) > gap:   # (it returns its search length when nothing is
+                continue                                         # nearer: search beyond the gap)
+            if _meet_on_an_edge(p, a.label, b.label):
+                how = "edge"
+            elif any({a.label, b.label} <= j for j in pairs):
+                how = "fastener"
+            else:
+                how = next((g.how for g in glued if g.matches(a.label, b.label)), "")
+            out.append((a.label, b.label, how or f"nothing ({reason})"))
     return out
+
+
+def unfastened_contacts(p: Params, placed, fasteners, glued=GLUED) -> list[str]:
+    """Pairs of the contact table that touch at rest and are neither joined by a fastener nor declared in
+    ``glued`` (:func:`mating_pairs`)."""
+    return [f"{a} and {b} touch ({how[len('nothing ('):-1]}) but no fastener joins them and they are not declared "
+            f"glued" for a, b, how in mating_pairs(p, placed, fasteners, glued) if how.startswith("nothing")]

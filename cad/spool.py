@@ -312,7 +312,7 @@ def _set_screw(n: SpoolNumbers, size: str, after: tuple[str, ...] = ()) -> Faste
         head_mm=n.to_body(x_head, a, n.set_screw_z_mm), axis=(-math.cos(a), -math.sin(a), 0.0),
         length_mm=n.set_screw_length_mm, grip_mm=0.0, head_part=None, thread_part=f"spool_{n.joint}",
         joins=f"spool {n.joint} to its motor's shaft (on the flat)", link=0,
-        installed_after=after)
+        installed_after=after, meta={"joins_parts": (f"motor_{n.joint}",)})
 
 
 def _index_screw(n: SpoolNumbers, angle_upper: float | None = None, after: tuple[str, ...] = ()) -> Fastener:

@@ -410,7 +410,7 @@ def check_fasteners_built(result: BuildResult, placed=None, cache: FamilyCache |
     fasteners, glued = built_fasteners(result, placed)
     return _on_solids(cache, "check-fasteners", ("swiftfin.cad.fastener_check",), result.params, placed,
                       lambda view: check_fasteners(view, fasteners, {q.label: q.manifold for q in placed},
-                                                   goes_in_with=glued),
+                                                   goes_in_with=glued, placed=placed),
                       records=(fasteners, sorted(glued.items())))
 
 
@@ -604,6 +604,10 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
     return result
 
 
+MATE_WORDS = {"fastener": "by fasteners", "glued": "glued", "pad": "on pads", "bearing": "on bearing fits",
+              "edge": "hull halves meeting on an edge only"}
+
+
 def summary_table(result: BuildResult) -> str:
     rows = [("part", "family", "link", "volume cm^3", "bbox mm (print)", "time s", "cached")]
     for b in result.parts:
@@ -641,8 +645,14 @@ def summary_table(result: BuildResult) -> str:
         what = ", ".join(f"{n} {k.replace('_', ' ')}s" for k, n in sorted(kinds.items()))
         worst = (f"; thinnest wall round a hole {w.wall_mm:.2f} mm (needs {w.limit_mm:.2f}): the {w.feature} of "
                  f"{w.fastener} in {w.part}" if w is not None else "")
+        hows: dict[str, int] = {}
+        for _, _, how in fr.mating_pairs:
+            hows[how] = hows.get(how, 0) + 1
+        mates = (f"; every touching pair of the contact table joined ({len(fr.mating_pairs)}: "
+                 + ", ".join(f"{n} {MATE_WORDS.get(h, h)}" for h, n in sorted(hows.items(), key=lambda t: -t[1]))
+                 + ")" if fr.mating_pairs else "")
         lines.append(f"fastener checks passed: {len(fr.fasteners)} fasteners ({what}) in "
-                     f"{len(fr.per_part())} parts, walls, engagement, lengths and drivers' paths{worst}")
+                     f"{len(fr.per_part())} parts, walls, engagement, lengths and drivers' paths{worst}{mates}")
     lines.append(thin_wall_summary(result))
     dr = result.dry_report
     if dr is not None:

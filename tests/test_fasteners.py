@@ -177,3 +177,37 @@ def test_every_fastener_of_the_default_design_names_its_parts(default_params, de
     for f in fs:
         named = {f.head_part, f.thread_part, f.meta.get("slip_part"), *f.meta.get("joins_parts", ())} - {None}
         assert named <= labels, (f.label, named - labels)
+
+
+# ------------------------------------------------------------------------------------------------ mating pairs
+def test_a_touching_pair_of_the_contact_table_needs_a_fastener_or_a_declared_joint(default_params):
+    """``unfastened_contacts`` (run in every build's fastener check): a pair the contact table lets touch, that
+    touches, is named unless a fastener record joins it or GLUED declares how it is held; a pair apart, the
+    diagonal hull halves that meet on an edge, and a spool's upper half on its shaft (a bearing) are not."""
+    from swiftfin.cad.assembly import Placed
+    from swiftfin.cad.fastener_check import unfastened_contacts
+    from swiftfin.cad.link import box
+    from swiftfin.exports.brep import tessellate
+
+    def placed(label, solid):
+        m = tessellate(solid, 0.01, 5.0)
+        return Placed(label, 0, "test", m.vertices, m.faces)
+
+    p = default_params
+    hull = placed("hull_head_front_upper", box(0, 10, 0, 10, 0, 10))
+    mount = placed("motor_mount_1", box(10, 20, 0, 10, 0, 10))                  # face to face
+    apart = placed("motor_mount_1", box(10.5, 20, 0, 10, 0, 10))                # 0.5 mm > sliding clearance
+    found = unfastened_contacts(p, [hull, mount], [])
+    assert len(found) == 1 and "hull_head_front_upper and motor_mount_1 touch" in found[0]
+    screw = _f(head_part="hull_head_front_upper", thread_part="motor_mount_1")
+    assert unfastened_contacts(p, [hull, mount], [screw]) == []
+    assert unfastened_contacts(p, [hull, apart], []) == []
+    diagonal = placed("hull_head_rear_lower", box(10, 20, 0, 10, -10, 0))       # meets hull on an edge
+    assert unfastened_contacts(p, [hull, diagonal], []) == []
+    same_piece = placed("hull_head_front_lower", box(0, 10, 0, 10, -10, 0))    # face to face: needs its screws
+    assert len(unfastened_contacts(p, [hull, same_piece], [])) == 1
+    upper = placed("spool_1_upper", box(0, 10, 0, 10, 10, 20))
+    shaft = placed("motor_1", box(0, 10, 0, 10, 0, 10))
+    assert unfastened_contacts(p, [upper, shaft], []) == []                    # turns on it: a bearing fit
+    lower = placed("spool_1", box(0, 10, 0, 10, 10, 20))
+    assert len(unfastened_contacts(p, [lower, shaft], [])) == 1                # fixed on it: by its set screw
