@@ -158,12 +158,15 @@ def test_part_poking_through_the_hull_is_found():
 # --------------------------------------------------------------------------------------------- the default design
 @pytest.mark.slow
 def test_default_design_passes_the_assembly_checks(default_params, tmp_path_factory):
-    """Every part of the default design: clearances over the joints' range, declared contacts, inside the hull."""
+    """Every part of the default design: clearances over the joints' range, declared contacts, inside the hull.
+    Through the session's rebuild cache, as a build does: a pair another test of the run (the end-to-end build)
+    proved on the same meshes is read, not proved again."""
     from swiftfin.cache import FamilyCache
     from swiftfin.pipeline import build_parts, check_built
 
-    result = build_parts(default_params, FamilyCache(session_cache_dir(tmp_path_factory)))
-    check_built(result)  # raises BuildError naming the parts and the joint angles
+    cache = FamilyCache(session_cache_dir(tmp_path_factory))
+    result = build_parts(default_params, cache)
+    check_built(result, cache)  # raises BuildError naming the parts and the joint angles
     stats = result.assembly_stats
     n = len(result.parts)
     assert stats["pairs"] + stats["contact_pairs"] == n * (n - 1) // 2

@@ -359,8 +359,21 @@ def _ring(f, depth_mm: float, radius_mm: float, n: int = 12):
     return [c + radius_mm * (math.cos(t) * u + math.sin(t) * v) for t in np.linspace(0, 2 * math.pi, n, endpoint=False)]
 
 
+_CLASSIFIERS: dict = {}
+
+
 def _inside(solid, q) -> bool:
-    return solid.is_inside(bd.Vector(*map(float, q)))
+    """``solid.is_inside(q)``, with one OpenCascade classifier per solid made once and asked again for every point
+    (``is_inside`` makes a new one each call: 4x slower on a hull half, and these tests ask tens of thousands)."""
+    from OCP.BRepClass3d import BRepClass3d_SolidClassifier
+    from OCP.gp import gp_Pnt
+    from OCP.TopAbs import TopAbs_IN
+    key = id(solid.wrapped)
+    if key not in _CLASSIFIERS:
+        _CLASSIFIERS[key] = (solid, BRepClass3d_SolidClassifier(solid.wrapped))   # the solid kept alive with it
+    c = _CLASSIFIERS[key][1]
+    c.Perform(gp_Pnt(*map(float, q)), 1.0e-6)
+    return c.State() == TopAbs_IN or c.IsOnAFace()
 
 
 def test_every_piece_has_seam_screws_on_both_sides_within_the_spacing():

@@ -441,12 +441,15 @@ def test_cli_reads_the_parts_from_a_build_folder(tmp_path, capsys):
 
 
 @pytest.mark.slow
-def test_cli_default_design_builds_in_memory(tmp_path):
-    """The real design, no build folder: parts built in memory, mass properties computed, every section."""
+def test_cli_default_design_builds_in_memory(tmp_path, tmp_path_factory):
+    """The real design, no build folder: parts built in memory (or read from the session's rebuild cache, where
+    another test stored them), mass properties computed, every section."""
     from swiftfin.cli import main
+    from tests.conftest import session_cache_dir
 
     out = tmp_path / "build"
-    assert main(["report", str(DEFAULT_DESIGN), "--out", str(out), "--cache-dir", str(tmp_path / "cache")]) == 0
+    assert main(["report", str(DEFAULT_DESIGN), "--out", str(out),
+                 "--cache-dir", str(session_cache_dir(tmp_path_factory))]) == 0
     text = (out / "report.html").read_text()
     assert_self_contained(text)
     imgs = decode_images(text)
