@@ -69,7 +69,7 @@ class FastenerReport:
     fasteners: tuple[Fastener, ...]
     walls: list[WallMeasure]
     problems: list[str]
-    mating_pairs: tuple = ()       # (a, b, how joined) of every touching pair of the contact table (mating_pairs)
+    mating_pairs: tuple = ()       # (a, b, how joined, why they touch) of every touching pair (mating_pairs)
 
     def worst_wall(self) -> WallMeasure | None:
         return min(self.walls, key=lambda w: w.wall_mm - w.limit_mm, default=None)
@@ -227,8 +227,7 @@ def check_fasteners(p: Params, fasteners, manifolds: dict, raise_on_failure: boo
     mates = ()
     if placed is not None:
         mates = tuple(mating_pairs(p, placed, fasteners))
-        problems += [f"{a} and {b} touch ({how[len('nothing ('):-1]}) but no fastener joins them and they are not "
-                     f"declared glued" for a, b, how in mates if how.startswith("nothing")]
+        problems += _unjoined(mates)
     report = FastenerReport(fasteners, walls, problems, mates)
     if problems and raise_on_failure:
         raise BuildError(f"{len(problems)} fastener check(s) failed:\n" + "\n".join(f"  - {x}" for x in problems))
@@ -270,30 +269,31 @@ def joined_parts(f: Fastener) -> set[str]:
     return ({f.head_part, f.thread_part} | set(f.meta.get("joins_parts", ()))) - {None}
 
 
-def _meet_on_an_edge(p: Params, la: str, lb: str) -> bool:
-    """Two hull parts of one link from different pieces and different halves (the front upper half and the rear
-    lower half): they meet only on the line where the halves' seam plane crosses the pieces' splice, and each is
-    fastened to the two parts it meets face to face."""
+def _meet_on_an_edge(p: Params, pieces: set[str], la: str, lb: str) -> bool:
+    """Two hull parts (``pieces``: the hull pieces' names) of different pieces and different halves (the front upper
+    half and the rear lower half): they meet only on the line where the halves' seam plane crosses the pieces'
+    splice, and each is fastened to the two parts it meets face to face."""
     if not p.hull.split_halves:
         return False
-    from swiftfin.layout.hull_plan import hull_pieces
-    names = {pc.name for pc in hull_pieces(p)}
     split = []
     for label in (la, lb):
         piece, _, half = label.rpartition("_")
-        if piece not in names or half not in ("upper", "lower"):
+        if piece not in pieces or half not in ("upper", "lower"):
             return False
         split.append((piece, half))
     (pa, ha), (pb, hb) = split
     return pa != pb and ha != hb
 
 
-def mating_pairs(p: Params, placed, fasteners, glued=GLUED) -> list[tuple[str, str, str]]:
-    """Every pair of the contact table (cad/assembly.py) that touches at rest (gap <= print.clearance_sliding_mm),
-    with how it is joined: ``"fastener"`` (a record joins both), ``"glued"``/``"pad"``/``"bearing"`` (declared in
-    ``glued``), ``"edge"`` (two hull halves that meet on a line only) or ``""`` (nothing: a fault)."""
+def mating_pairs(p: Params, placed, fasteners, glued=GLUED) -> list[tuple[str, str, str, str]]:
+    """Every pair of the contact table (cad/assembly.py) that touches at rest (gap <= print.clearance_sliding_mm):
+    (a, b, how it is joined, the table's reason it touches). How: ``"fastener"`` (a record joins both),
+    ``"glued"``/``"pad"``/``"bearing"`` (declared in ``glued``), ``"edge"`` (two hull halves that meet on a line
+    only) or ``""`` (nothing: a fault)."""
     from swiftfin.cad.assembly import contact_reason
+    from swiftfin.layout.hull_plan import hull_pieces
 
+    pieces = {pc.name for pc in hull_pieces(p)}
     pairs = [joined_parts(f) for f in fasteners]
     gap = p.print.clearance_sliding_mm
     out = []
@@ -308,18 +308,22 @@ def mating_pairs(p: Params, placed, fasteners, glued=GLUED) -> list[tuple[str, s
                 continue
             if a.manifold.min_gap(b.manifold, 2 * gap) > gap:   # (it returns its search length when nothing is
                 continue                                         # nearer: search beyond the gap)
-            if _meet_on_an_edge(p, a.label, b.label):
+            if _meet_on_an_edge(p, pieces, a.label, b.label):
                 how = "edge"
             elif any({a.label, b.label} <= j for j in pairs):
                 how = "fastener"
             else:
                 how = next((g.how for g in glued if g.matches(a.label, b.label)), "")
-            out.append((a.label, b.label, how or f"nothing ({reason})"))
+            out.append((a.label, b.label, how, reason))
     return out
+
+
+def _unjoined(mates) -> list[str]:
+    return [f"{a} and {b} touch ({reason}) but no fastener joins them and they are not declared glued"
+            for a, b, how, reason in mates if not how]
 
 
 def unfastened_contacts(p: Params, placed, fasteners, glued=GLUED) -> list[str]:
     """Pairs of the contact table that touch at rest and are neither joined by a fastener nor declared in
     ``glued`` (:func:`mating_pairs`)."""
-    return [f"{a} and {b} touch ({how[len('nothing ('):-1]}) but no fastener joins them and they are not declared "
-            f"glued" for a, b, how in mating_pairs(p, placed, fasteners, glued) if how.startswith("nothing")]
+    return _unjoined(mating_pairs(p, placed, fasteners, glued))

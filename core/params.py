@@ -588,13 +588,10 @@ def to_dict(p: Params) -> dict:
 
 
 def get_key(p: Params, dotted: str) -> Any:
-    """Value of a dotted key such as ``spool.drum_diameter_mm`` (or ``components[0].z_mm``: an entry of a list)."""
+    """Value of a dotted key such as ``spool.drum_diameter_mm``."""
     obj: Any = p
     for part in dotted.split("."):
-        name, _, index = part.partition("[")
-        obj = getattr(obj, name)
-        if index:
-            obj = obj[int(index.rstrip("]"))]
+        obj = getattr(obj, part)
     return obj
 
 

@@ -646,7 +646,7 @@ def summary_table(result: BuildResult) -> str:
         worst = (f"; thinnest wall round a hole {w.wall_mm:.2f} mm (needs {w.limit_mm:.2f}): the {w.feature} of "
                  f"{w.fastener} in {w.part}" if w is not None else "")
         hows: dict[str, int] = {}
-        for _, _, how in fr.mating_pairs:
+        for _, _, how, _ in fr.mating_pairs:
             hows[how] = hows.get(how, 0) + 1
         mates = (f"; every touching pair of the contact table joined ({len(fr.mating_pairs)}: "
                  + ", ".join(f"{n} {MATE_WORDS.get(h, h)}" for h, n in sorted(hows.items(), key=lambda t: -t[1]))
