@@ -102,6 +102,17 @@ for _n in (N_T, N_WAVE):
 # ----------------------------------------------------------------------------------------------- inputs
 _LISTS = ("joints.stations_fraction", "motor.pullout_curve_steps_per_s", "motor.pullout_curve_torque_nm")
 _SKIP_SECTIONS = ("export", "domain_randomisation")
+COMPONENTS = "components"
+"""The column of each design's ``params.components`` (an object array of tuples): no rule reads it as a number,
+but a design rebuilt from the columns (:meth:`DesignArrays.params`) must keep its battery where it was."""
+
+
+def _objects(items) -> np.ndarray:
+    """A 1-D object array of ``items`` (numpy would make a tuple of tuples two-dimensional)."""
+    out = np.empty(len(items), dtype=object)
+    for i, x in enumerate(items):
+        out[i] = tuple(x)
+    return out
 
 
 def _scalar_keys() -> list[str]:
@@ -148,6 +159,7 @@ class DesignArrays:
                 else:
                     dt = bool if isinstance(f.default, bool) else (np.int64 if isinstance(f.default, int) else float)
                     cols[key] = np.fromiter((s[f.name] for s in secs), dtype=dt, count=len(secs))
+        cols[COMPONENTS] = _objects([p.components for p in designs])
         return cls(cols, designs)
 
     @classmethod
@@ -161,6 +173,10 @@ class DesignArrays:
         cols, probs = {}, []
         for key, v in one.items():
             given = key in columns
+            if key == COMPONENTS:        # a tuple of tables per design: carried, not a number to range-check
+                cols[key] = _objects([columns[key]] * n if given and len(columns[key]) != n else
+                                     list(columns[key]) if given else [base.components] * n)
+                continue
             a = np.asarray(columns[key]) if given else v[0]
             if key in _LISTS:
                 a = np.atleast_2d(np.asarray(a, dtype=float))
@@ -223,6 +239,8 @@ class DesignArrays:
                     v = float(v)
                 kw[f.name] = v
             secs[name] = replace(getattr(base, name), **kw)
+        if COMPONENTS in self.columns:
+            secs[COMPONENTS] = tuple(self.columns[COMPONENTS][i])
         return replace(base, **secs)
 
 
@@ -1219,7 +1237,51 @@ def _sized_as_a_designer_would(p: Params) -> Params:
     p = first_made("hull.screw_diameter_mm", screw_diameters_mm(), wall_fixings)
     p = first_made("environment.flotation_foam_segments",
                    range(p.environment.flotation_foam_segments, -1, -1), foam_blocks)
-    return replace_key(p, "hull.cable_gland_length_mm", gland_length_needed_mm(p))
+    p = replace_key(p, "hull.cable_gland_length_mm", gland_length_needed_mm(p))
+    return _components_placed(p)
+
+
+COMPONENT_HEIGHT_STEPS = 8
+"""Heights a designer tries for a component of a drawn design: its height in the default design scaled to this hull's
+depth at its station, then that height stepped toward the axis in this many equal steps (the first that fits)."""
+
+
+def _components_placed(p: Params) -> Params:
+    """``p`` with each component (the default's, in millimetres) where it fits this hull, as a designer would move
+    it: its station moved aft or forward, if need be, into the head's hollow (the nose cap and the dry compartment's
+    rear wall move with the body), then its height, the default design's scaled by the ratio of the hulls'
+    half-heights at its station or, where that leaves a corner through the wall, the first of that height's steps
+    toward the axis that lies inside (:func:`swiftfin.layout.hull_plan.component_problems`, the loader's own check).
+    A component that fits nowhere on that line stays where the scaling put it: the loader then refuses the design,
+    naming the component."""
+    import dataclasses
+
+    from swiftfin.layout.geometry import half_height_mm
+    from swiftfin.layout.hull_plan import component_problem, head_hollow_mm
+    base = Params()
+    try:
+        hollow = head_hollow_mm(p)
+    except Exception:  # noqa: BLE001 - a hull the plans cannot cut: the loader says why
+        return p
+    if hollow is None:
+        return p
+    c_mm = p.print.clearance_assembly_mm
+    length = p.body.length_mm
+    comps = list(p.components)
+    for i, c in enumerate(comps):
+        if c.name == "fasteners":
+            continue
+        half = c.size_mm[0] / 2 + c_mm + 1e-6    # (a hair inside, so the check's own rounding does not refuse it)
+        s_mm = min(max(c.station_fraction * length, hollow[0] + half), hollow[1] - half)
+        scale = float(half_height_mm(p, s_mm)) / float(half_height_mm(base, c.station_fraction * base.body.length_mm))
+        c = dataclasses.replace(c, station_fraction=s_mm / length, z_mm=c.z_mm * scale)
+        comps[i] = c
+        for k in range(COMPONENT_HEIGHT_STEPS + 1):
+            trial = dataclasses.replace(c, z_mm=c.z_mm * (1 - k / COMPONENT_HEIGHT_STEPS))
+            if component_problem(p, i, trial, hollow) is None:
+                comps[i] = trial
+                break
+    return dataclasses.replace(p, components=tuple(comps))
 
 
 def gland_length_needed_mm(p: Params) -> float:

@@ -102,10 +102,21 @@ def _plan_problem(params: Params, exc: Exception, key: str, what: str, seen: set
         out.append(Problem(key, get_key(params, key), f"{what} cannot be made for this design: {text}"))
 
 
+def _component_problems(params: Params) -> list[Problem]:
+    from swiftfin.core.errors import BuildError, UserError
+    from swiftfin.layout.hull_plan import component_problems
+    try:
+        return component_problems(params)
+    except (UserError, BuildError):     # a hull that cannot be cut into pieces: print.bed_fit and the plans say so
+        return []
+
+
 def _layout_level(params: Params, earlier: list[Problem]) -> list[Problem] | None:
     found = _guarded(layout_problems, params, earlier)
     if found == []:  # the links' own room (tendon wrap, stops, flange bolts) assumes a feasible layout
         found = _guarded(joint_link_problems, params, earlier)
+    if found == []:  # the components sit in the head's hollow the layout leaves
+        found = _guarded(_component_problems, params, earlier)
     if found == []:  # the fasteners and foam are placed in the room the layout leaves
         found = _guarded(plan_problems, params, earlier)
     return found

@@ -286,6 +286,55 @@ def flooded(p: Params, link: int) -> bool:
 
 
 # ----------------------------------------------------------------------------------------------- fasteners
+def head_hollow_mm(p: Params) -> tuple[float, float] | None:
+    """Stations [s0, s1] of the head's hollow (link 0's pieces: behind the nose cap, ahead of the dry compartment's
+    rear wall), where the components ride; None when no hull piece is on the head."""
+    head = [pc for pc in hull_pieces(p) if pc.link == 0]
+    if not head:
+        return None
+    return (min(cavity_range_mm(p, pc)[0] for pc in head), max(cavity_range_mm(p, pc)[1] for pc in head))
+
+
+def component_problems(p: Params) -> list:
+    """The components of ``params.components`` that cannot be where they are. They ride on the head (link 0:
+    ``swiftfin.cad.bought`` and the mass model put them there), so each box must lie in the head's hollow, between
+    the nose cap and the dry compartment's rear wall, with every corner inside the hull's inner surface by
+    ``print.clearance_assembly_mm`` (:func:`swiftfin.layout.geometry.inner_envelope_excess_mm`, the assembly
+    check's own test). Found when the design loads, naming the key, instead of by the assembly check at the end of
+    a build. (The mass placeholder ``fasteners``, if a design still has one, is not a box in the hull.)"""
+    hollow = head_hollow_mm(p)
+    if hollow is None:
+        return []
+    found = (component_problem(p, i, comp, hollow) for i, comp in enumerate(p.components))
+    return [pr for pr in found if pr is not None]
+
+
+def component_problem(p: Params, i: int, comp, hollow: tuple[float, float]):
+    """The problem of component ``comp`` (``components[i]``) in the head's hollow ``hollow`` (:func:`head_hollow_mm`),
+    or None where it fits (see :func:`component_problems`)."""
+    from swiftfin.core.params import Problem
+    if comp.name == "fasteners":
+        return None
+    lo, hi = hollow
+    c = p.print.clearance_assembly_mm
+    sx, sy, sz = comp.size_mm
+    sc = comp.station_fraction * p.body.length_mm
+    if sc - sx / 2 < lo + c or sc + sx / 2 > hi - c:
+        return Problem(f"components[{i}].station_fraction", comp.station_fraction,
+                       f"{comp.name!r} ({sx:g} mm long) at s = {sc - sx / 2:.1f}..{sc + sx / 2:.1f} mm leaves "
+                       f"the head's hollow (s = {lo + c:.1f}..{hi - c:.1f} mm with the assembly clearance): "
+                       f"components ride on the head, between the nose and the dry compartment's rear wall")
+    corners = np.array([(-sc + i_ * sx / 2, j * sy / 2, comp.z_mm + k * sz / 2)
+                        for i_ in (-1, 1) for j in (-1, 1) for k in (-1, 1)])
+    worst = float(L.inner_envelope_excess_mm(p, corners).max())
+    if worst > -c:
+        return Problem(f"components[{i}].z_mm", comp.z_mm,
+                       f"{comp.name!r} ({sx:g} x {sy:g} x {sz:g} mm at s = {sc:.1f} mm) has a corner "
+                       f"{worst + c:.1f} mm past the hull's inner surface less print.clearance_assembly_mm "
+                       f"({c:g} mm): move it (z_mm, station_fraction) or make it smaller (size_mm)")
+    return None
+
+
 def part_label(p: Params, pc: HullPiece, half: str) -> str:
     """Label of the printed part of ``pc`` holding its ``half`` ("upper"/"lower"): the half, or the whole piece."""
     return f"{pc.name}_{half}" if p.hull.split_halves else pc.name

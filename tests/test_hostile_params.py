@@ -223,6 +223,10 @@ CHECK_CASES = [
     case(THREE_LEVELS, 2, "spool.wraps = -1", "spool.groove_pitch_mm", "motor.frame_size_mm",
          id="three-levels-at-once"),
     case(_component('"../../x"'), 2, "components[0].name = '../../x'", id="component-name-path"),
+    case(_component('"radio"', "z_mm = -70.0\n"), 2, "components[0].z_mm = -70.0",
+         "past the hull's inner surface", id="component-through-the-hull"),
+    case(_component('"radio"').replace("station_fraction = 0.3", "station_fraction = 0.7"), 2,
+         "components[0].station_fraction = 0.7", "leaves the head's hollow", id="component-in-the-flooded-tail"),
     case(DIRECTORY, 2, "is a directory", id="directory"),
     case(FIFO, 2, "is not a regular file", id="fifo"),
 ]
