@@ -173,9 +173,12 @@ class DesignArrays:
         cols, probs = {}, []
         for key, v in one.items():
             given = key in columns
-            if key == COMPONENTS:        # a tuple of tables per design: carried, not a number to range-check
-                cols[key] = _objects([columns[key]] * n if given and len(columns[key]) != n else
-                                     list(columns[key]) if given else [base.components] * n)
+            if key == COMPONENTS:        # one tuple of tables per design: carried, not a number to range-check
+                rows = list(columns[key]) if given else [base.components] * n
+                if len(rows) != n:
+                    probs.append(Problem(key, f"{len(rows)} row(s)", f"one tuple of components per design ({n})"))
+                    continue
+                cols[key] = _objects(rows)
                 continue
             a = np.asarray(columns[key]) if given else v[0]
             if key in _LISTS:
@@ -1261,8 +1264,8 @@ def _components_placed(p: Params) -> Params:
     base = Params()
     try:
         hollow = head_hollow_mm(p)
-    except Exception:  # noqa: BLE001 - a hull the plans cannot cut: the loader says why
-        return p
+    except Exception:  # noqa: BLE001 - a hull the plans cannot cut (even a division by zero in a drawn design's
+        return p       # mount fixings): the loader's guarded layout checks say why, naming the key
     if hollow is None:
         return p
     c_mm = p.print.clearance_assembly_mm
