@@ -8,8 +8,10 @@
 * The capstan cables are fixed tendons ``cable_j`` (length change = moment arm x joint angle): they report
   the cable excursion each side, and hence the spool's turn (excursion / spool radius).
 * Water: ``<option density viscosity>``; every link has an ellipsoid geom with ``fluidshape="ellipsoid"``
-  (MuJoCo's ellipsoid fluid model: added mass, viscous and quadratic drag, Kutta and Magnus lift, default
-  coefficients), the tail link a thin-plate one of the caudal fin's span and planform area. These ellipsoids
+  (MuJoCo's ellipsoid fluid model: added mass, viscous and quadratic drag, Kutta and Magnus lift), the tail link
+  a thin-plate one of the caudal fin's span and planform area. The fin's has MuJoCo's default coefficients; the
+  hull's ``fluidcoef`` drops the Kutta lift (``physics.swim_sim.FLUIDCOEF_HULL``: a slice of a smooth body is no
+  wing; with it the free fish porpoises). These ellipsoids
   are also the collision primitives (all self-contacts excluded: the hard stops are joint limits).
   Caveat (tests/test_mujoco_swim.py): MuJoCo's added-mass force keeps only ``(rho m_v v) x omega`` and drops
   ``-rho m_v dv/dt``; on an undulating fish that half has a backward mean, and the model has no reactive
@@ -117,9 +119,11 @@ def mjcf_tree(robot: Robot, free: bool = True) -> ET.ElementTree:
             ET.SubElement(b, "geom", name=g.name, type="mesh", mesh=g.name, group="1",
                           pos=fmt(*g.T_link_geom.xyz_m), rgba="0.75 0.78 0.82 1")
         for g in lk.fluid:
-            ET.SubElement(b, "geom", name=g.name, type="ellipsoid", size=fmt(*g.size_m),
-                          pos=fmt(*g.T_link_geom.xyz_m), group="3", contype="1", conaffinity="1",
-                          fluidshape="ellipsoid", rgba="0.2 0.5 0.9 0.3")
+            el = ET.SubElement(b, "geom", name=g.name, type="ellipsoid", size=fmt(*g.size_m),
+                               pos=fmt(*g.T_link_geom.xyz_m), group="3", contype="1", conaffinity="1",
+                               fluidshape="ellipsoid", rgba="0.2 0.5 0.9 0.3")
+            if g.fluid_coef:
+                el.set("fluidcoef", fmt(*g.fluid_coef))
         ET.SubElement(b, "site", name=f"{name}_cob", pos=fmt(*cob), size="0.004", group="4")
         for child in children[name]:
             body(b, child.child, child.T_parent_child.xyz_m)

@@ -12,7 +12,8 @@ Joint axis: ``(0, 0, -1)``, so that a positive joint angle turns the child's tai
 
 Water: every swimming link carries a ``fluid`` ellipsoid (centre and semi-axes in the link frame; the head's
 of its hull envelope, the hull links' slender, see :func:`fluid_ellipsoid`), plus a thin-plate ellipsoid for
-the caudal fin (:func:`fin_ellipsoid`); MuJoCo's ellipsoid fluid model uses them.
+the caudal fin (:func:`fin_ellipsoid`); MuJoCo's ellipsoid fluid model uses them, the hull's without the Kutta
+lift (``Geometry.fluid_coef``), the fin's with MuJoCo's defaults.
 Buoyancy (``Link.displaced_volume_m3``, ``Link.cob_m``): the exporters that can express it do so.
 """
 from __future__ import annotations
@@ -29,6 +30,7 @@ from swiftfin.exports.massprops import Inertial, MassReport, combine, link_origi
 from swiftfin.core.calibration import Calibration
 from swiftfin.core.schema import Params
 from swiftfin.layout.servo import joint_servo, joint_torque_limit_nm
+from swiftfin.physics.swim_sim import FLUIDCOEF_HULL
 
 JOINT_AXIS = (0.0, 0.0, -1.0)
 
@@ -49,6 +51,7 @@ class Geometry:
     size_m: tuple[float, ...] = ()
     mesh_file: str = ""
     T_link_geom: Pose = Pose()
+    fluid_coef: tuple[float, ...] = ()   # a fluid ellipsoid's MuJoCo fluidcoef; () = the simulator's defaults
 
 
 @dataclass(frozen=True)
@@ -142,6 +145,9 @@ def fluid_ellipsoid(p: Params, report: MassReport, j: int) -> Geometry:
       a_y = |A(s0) - A(s1)| / (pi a_z), between half the wall thickness and the link's mean half-width. A
       volume-matched ellipsoid of a 39 mm link of a 75 mm wide body would be a disk facing the flow (its
       thinnest axis x), which MuJoCo treats as a plate across the stream.
+
+    Every hull ellipsoid carries :data:`physics.swim_sim.FLUIDCOEF_HULL`: no Kutta lift (a slice of a smooth
+    closed body sheds no vorticity of its own; the fin does).
     """
     js = layout.joint_stations_mm(p)
     bounds = [0.0, *js, layout.hull_end_mm(p)]
@@ -166,7 +172,7 @@ def fluid_ellipsoid(p: Params, report: MassReport, j: int) -> Geometry:
     centre = units.length_m(np.array([-(s0 + s1) / 2 - origin[0], 0.0, 0.0]))
     return Geometry(f"{report.links[j].name}_fluid", "ellipsoid",
                     tuple(float(v) for v in units.length_m(np.array([ax, ay, az]))), "",
-                    Pose(tuple(float(v) for v in centre)))
+                    Pose(tuple(float(v) for v in centre)), FLUIDCOEF_HULL)
 
 
 def fin_ellipsoid(p: Params, parts, last_link: int) -> Geometry | None:

@@ -3,10 +3,11 @@ parameter file), driven by the travelling wave (physics.kinematics, eq. 43-47, r
 
 Checked here: the wave runs from head to tail in the simulated joints; a positive joint angle turns the tail
 toward +y; the fluid geoms are the head's envelope, slender hull-link slices and a thin-plate caudal fin of
-the fin's span and area, with MuJoCo's default coefficients (nothing tuned). The fish is trimmed by the mass
+the fin's span and area, with MuJoCo's default coefficients on the fin and the hull's without their Kutta lift
+(physics.swim_sim.FLUIDCOEF_HULL, argued there; test_free_fish_stays_level_for_30_s_and_why is its control). The fish is trimmed by the mass
 model (flooded tail, lead ballast: neutral, COM under the COB) and swims forward free in all six degrees of
-freedom, staying level, and held level (planar) for the speed table, at about a tenth of the paper's speed. Why so slow (test_what_limits_the_speed_in_mujoco): MuJoCo's quasi-steady
-model has no reactive (shed-wake) thrust - its Kutta lift on the fin is ~1/9 of Lighthill's elongated-body
+freedom, staying level, and held level (planar) for the speed table, at about a twenty-fifth of the paper's speed. Why so slow (test_what_limits_the_speed_in_mujoco): MuJoCo's quasi-steady
+model has no reactive (shed-wake) thrust - its Kutta lift on the fin is ~1/14 of Lighthill's elongated-body
 thrust for the same tail motion - and its added-mass force keeps only (rho m_v v) x omega of the Kirchhoff
 force, dropping -rho m_v dv/dt: the whole force has zero mean over a period, MuJoCo's half a backward one.
 
@@ -24,7 +25,7 @@ from swiftfin.physics.kinematics import relative_joint_angles_rad, wave_from_par
 from tests.conftest import require_module
 
 mujoco = require_module("mujoco", "MuJoCo (the mujoco package) runs the swimming model")
-from swiftfin.physics.swim_sim import FLUIDCOEF_DEFAULT, fluid_force_terms, load_model, swim  # noqa: E402
+from swiftfin.physics.swim_sim import FLUIDCOEF_DEFAULT, FLUIDCOEF_HULL, fluid_force_terms, load_model, swim  # noqa: E402
 
 pytestmark = pytest.mark.slow
 
@@ -154,7 +155,9 @@ def test_fluid_geoms(real_robot, default_params, default_parts):
         assert model.geom_size[g, 0] <= 1e-4 and not model.geom_fluid[g, 1:6].any()
     for g in fluid:
         assert model.geom_type[g] == mujoco.mjtGeom.mjGEOM_ELLIPSOID
-        assert np.allclose(model.geom_fluid[g, 1:6], FLUIDCOEF_DEFAULT)
+        # MuJoCo's defaults on the fin; the hull's slices of a smooth body without the Kutta lift (FLUIDCOEF_HULL)
+        want = FLUIDCOEF_DEFAULT if model.geom(g).name == "caudal_fin_fluid" else FLUIDCOEF_HULL
+        assert np.allclose(model.geom_fluid[g, 1:6], want), model.geom(g).name
         assert np.all(model.geom_fluid[g, 6:12] > 0)     # MuJoCo's virtual mass and inertia of the ellipsoid
     # hull links: slender slices (length, mean height; thinner than long), not disks facing the flow
     bounds = [0.0, *layout.joint_stations_mm(p), layout.hull_end_mm(p)]
@@ -239,6 +242,41 @@ def test_free_fish_swims_forward_and_level_at_1_2_3_hz(real_robot, default_param
         for f, u, pmin, pmax, dz in rows:
             print(f"  f = {f:.0f} Hz: {u:+.3f} m/s = {u / L:+.3f} BL/s; pitch {pmin:+.1f}..{pmax:+.1f} deg; "
                   f"depth change <= {1000 * dz:.0f} mm; paper {PAPER_BL_PER_S_PER_HZ * f:.2f} BL/s")
+
+
+def test_free_fish_stays_level_for_30_s_and_why(real_robot, default_params, tmp_path, capsys):
+    """A 6 s run cannot tell a level fish from one whose pitch oscillation is slowly growing. Free in six degrees
+    of freedom for 30 s at the design frequency, the exported fish keeps its pitch within 5 deg throughout, and
+    it does not grow: the last 10 s swing no more than the 10 s before them (+0.5 deg).
+
+    The control, the reason the hull's ellipsoids carry no Kutta lift (physics.swim_sim.FLUIDCOEF_HULL): the
+    same file with MuJoCo's default coefficients on every ellipsoid (the fluidcoef attributes taken out) porpoises,
+    a slow pitch oscillation that grows past 10 deg within the 30 s (measured: +-20 deg, 0.22 Hz)."""
+    import re
+    path, _ = real_robot
+    f = default_params.swimming.tail_beat_frequency_hz
+    seconds = 30.0
+    text = path.read_text()
+    assert text.count('fluidcoef="0.5 0.25 1.5 0.0 1.0"') == default_params.joints.count + 1
+    plain = tmp_path / "robot" / path.name
+    import shutil
+    shutil.copytree(path.parent, plain.parent)
+    plain.write_text(re.sub(r' fluidcoef="0\.5 0\.25 1\.5 0\.0 1\.0"', "", text))
+    rows = {}
+    for label, file in (("exported", path), ("hull with Kutta lift", plain)):
+        r = swim(file, default_params, frequency_hz=f, duration_s=seconds, planar=False)
+        assert r.finite and r.warnings == {}
+        pitch = np.degrees(np.arcsin(r.head_axis[:, 2]))
+        n = len(pitch)
+        late, before = pitch[n * 2 // 3:], pitch[n // 3:n * 2 // 3]
+        rows[label] = (np.abs(pitch).max(), np.ptp(before), np.ptp(late), r.forward_speed_m_s())
+    big, swing_before, swing_late, _ = rows["exported"]
+    assert big < 5.0 and swing_late <= swing_before + 0.5, rows["exported"]
+    assert rows["hull with Kutta lift"][0] > 10.0, rows["hull with Kutta lift"]
+    with capsys.disabled():
+        print(f"\n  MuJoCo, FREE, {seconds:.0f} s at {f:g} Hz: largest pitch, pitch swing over 10-20 s and 20-30 s, speed")
+        for label, (big, b, late, u) in rows.items():
+            print(f"  {label:22s}: {big:5.1f} deg, {b:5.1f} / {late:5.1f} deg, {u:+.3f} m/s")
 
 
 def test_speeds_at_1_2_3_hz(speeds, default_params, capsys):
