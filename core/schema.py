@@ -410,6 +410,10 @@ class Print:
     support_angle_deg: float = p(45.0, 20.0, 80.0, "A face leaning further than this from the vertical needs "
                                  "support (the print orientation is chosen to need least)",
                                  "FDM practice (45 deg overhangs print without support)")
+    max_bridge_mm: float = p(10.0, 1.0, 100.0, "A nearly horizontal ceiling may bridge this far between the edges "
+                             "that have material below (longer bridges are reported with their part and place)",
+                             "FDM practice (about 5 mm always, 10 mm with part cooling; PrusaSlicer lays bridges as "
+                             "thick threads)")
 
 
 @dataclass(frozen=True)

@@ -186,6 +186,7 @@ class PartExport:
     orientations: tuple = ()        # (rotation, support area mm^2, fits the bed) of every candidate tried
     thin_walls: tuple = ()          # exports.printability.ThinWall: walls under two perimeters (body frame)
     checks_s: float = 0.0           # seconds of the print checks in it (orientation, wall probe): not CAD work
+    bridges: tuple = ()             # exports.printability.Bridge: ceilings spanning over print.max_bridge_mm
 
 
 LAYERED_WALL_LAYERS = 2
@@ -199,14 +200,16 @@ def export_part(spec, p) -> PartExport:
     mesh = tessellate(spec.solid, e.mesh_tolerance_mm, e.mesh_angular_tolerance_deg)
     files: dict[str, bytes] = {}
     size = tuple(float(v) for v in (mesh.bbox_mm[1] - mesh.bbox_mm[0]))
-    rot, support, tried, thin, checks_s = None, None, (), (), 0.0
+    rot, support, tried, thin, checks_s, long_bridges = None, None, (), (), 0.0, ()
     if spec.printed:
-        from swiftfin.exports.printability import thin_walls
+        from swiftfin.exports.printability import bridges, thin_walls
         t0 = time.perf_counter()
         rot, support, tried = choose_orientation(spec, mesh, p)
         up = rotation_matrix(rot)[:3, :3].T @ np.array([0.0, 0.0, 1.0])     # the print's vertical, at rest
         thin = tuple(thin_walls(mesh.vertices, mesh.faces, 2 * p.print.line_width_mm, up=up,
                                 layered_limit_mm=LAYERED_WALL_LAYERS * p.print.layer_height_mm))
+        limit = p.print.max_bridge_mm
+        long_bridges = tuple(b for b in bridges(mesh.vertices, mesh.faces, limit, up=up) if b.span_mm > limit)
         checks_s = time.perf_counter() - t0
         m = print_transform(mesh, rot, p.print.bed_x_mm, p.print.bed_y_mm)
         pm = mesh.transformed(m)
@@ -216,7 +219,7 @@ def export_part(spec, p) -> PartExport:
         files[".step"] = step_bytes(move_shape(spec.solid, m), spec.label)
     props = solid_volume_props(spec.solid)   # the adaptive integration, not Shape.volume's fixed rule
     return PartExport(mesh, props.volume_mm3, float(spec.solid.area), size, files, props, rot, support, tried,
-                      thin, checks_s)
+                      thin, checks_s, long_bridges)
 
 
 def choose_orientation(spec, mesh: Mesh, p):

@@ -1,5 +1,5 @@
-"""What a printed part asks of the printer in its print orientation: the area that needs support, and the orientation
-that needs least (issue 13, item 5).
+"""What a printed part asks of the printer in its print orientation: the area that needs support, the orientation
+that needs least, the walls too thin to print and the bridges too long to print (issue 13, item 5).
 
 **Overhang.** A face of the part's mesh in print orientation (bed at z = 0) needs support when it faces down more
 steeply than the support angle: its outward normal n has ``n_z < -sin(support_angle)`` with the angle measured
@@ -11,6 +11,10 @@ projected on the bed (what a slicer fills with support). A downward face whose l
 **Orientation.** :func:`best_orientation` tries the part family's candidate rotations (``PartSpec.meta
 ["print_candidates"]`` if the family offers several, else only its own ``print_rotation``) and keeps the one with the
 least support area that fits the bed; ties keep the family's own choice.
+
+**Bridges.** :func:`bridges`: every nearly horizontal ceiling of the part in print orientation and the span the
+slicer must string across it from its anchors, against ``print.max_bridge_mm``. Checked on closed forms (a tunnel
+spans its width; a ledge twice its reach) and against PrusaSlicer's own bridge threads over the same tunnels.
 """
 from __future__ import annotations
 
@@ -185,3 +189,110 @@ def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: i
         i = members[np.argmin(thickness[members])]
         out.append(ThinWall(float(thickness[i]), float(area), tuple(float(v) for v in points[i]), float(limit[i])))
     return sorted(out, key=lambda w: w.thickness_mm)
+# ----------------------------------------------------------------------------------------------- bridges
+BRIDGE_TILT_DEG = 10.0
+"""A downward face within this angle of horizontal is laid as a bridge: the slicer strings its first layer across
+from wherever there is material below to hold the ends (steeper faces are overhangs, each layer stepping out
+from the one below)."""
+BRIDGE_SAMPLE_MM = 0.25
+"""The bridge's surface and its anchoring edges are sampled this finely."""
+MIN_BRIDGE_AREA_MM2 = 1.0
+"""A bridge region of less area than this is not reported (the tessellation's slivers)."""
+
+
+@dataclass(frozen=True)
+class Bridge:
+    """A downward, nearly horizontal region of a part in its print orientation, and how far it must bridge.
+
+    ``span_mm``: twice the largest distance (in plan) from a point of the region to the nearest edge of it that
+    has material below (an anchor): a bridge between two walls W apart spans W; a ledge sticking out L spans 2 L
+    (its tip is L from the one anchor, as the middle of a 2 L bridge is). ``inf`` when no edge is anchored: a
+    ceiling hanging in mid-air, which only support can start."""
+    span_mm: float
+    area_mm2: float
+    at_mm: tuple[float, float, float]     # the point farthest from an anchor (the mesh's frame)
+    limit_mm: float
+
+    def __str__(self) -> str:
+        x, y, z = self.at_mm
+        span = "no anchored edge" if math.isinf(self.span_mm) else f"{self.span_mm:.1f} mm span"
+        return (f"{span} (limit {self.limit_mm:.1f}) over {self.area_mm2:.1f} mm^2, farthest from an anchor at "
+                f"({x:.1f}, {y:.1f}, {z:.1f}) mm")
+
+
+def _triangle_samples(tri: np.ndarray, step_mm: float) -> np.ndarray:
+    """Points on each triangle of ``tri`` (k, 3, 3): its vertices and a barycentric grid no coarser than ``step_mm``."""
+    out = [tri.reshape(-1, 3)]
+    edge = np.linalg.norm(tri - np.roll(tri, 1, axis=1), axis=2).max(axis=1)
+    div = np.maximum(1, np.ceil(edge / step_mm)).astype(int)
+    for k in np.unique(div):
+        if k < 2:
+            continue
+        i, j = np.meshgrid(np.arange(k + 1), np.arange(k + 1), indexing="ij")
+        keep = i + j <= k
+        a, b = i[keep] / k, j[keep] / k
+        w = np.stack([1 - a - b, a, b], axis=1)                   # (m, 3) barycentric weights
+        t = tri[div == k]
+        out.append(np.einsum("mk,tkd->tmd", w, t).reshape(-1, 3))
+    return np.vstack(out)
+
+
+def bridges(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, up=(0.0, 0.0, 1.0)) -> list[Bridge]:
+    """Every bridge region of a mesh printed with ``up`` as the vertical, with its span (:class:`Bridge`); the
+    regions on the bed are not bridges. All of them, not only those over ``limit_mm`` (which each carries).
+
+    A region is a connected set of faces whose outward normal is within :data:`BRIDGE_TILT_DEG` of straight down.
+    An edge of it is anchored when the face beyond it lies lower (a wall going down from it: material below, where
+    the slicer anchors the bridge's threads); an edge whose neighbour rises (the outside of a ledge, the end of a
+    tunnel open at a face) holds nothing."""
+    import trimesh
+    from scipy.spatial import cKDTree
+
+    v0 = np.asarray(vertices, dtype=float)
+    f = np.asarray(faces, dtype=np.int64)
+    u = np.asarray(up, dtype=float)
+    u = u / np.linalg.norm(u)
+    # a print frame: z along up (the inverse rotation brings the points back to the mesh's frame)
+    e1 = np.cross(u, [1.0, 0.0, 0.0]) if abs(u[0]) < 0.9 else np.cross(u, [0.0, 1.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    R = np.stack([e1, np.cross(u, e1), u])                       # rows: print x, y, z in the mesh's frame
+    v = v0 @ R.T
+    z0 = float(v[:, 2].min())
+    v[:, 2] -= z0
+    # one vertex where B-rep faces meet (a tessellation repeats them per face): adjacency across a ceiling's edges
+    mesh = trimesh.Trimesh(v, f, process=True)
+    v, f = mesh.vertices, mesh.faces
+    n = mesh.face_normals
+    tri = v[f]
+    ceiling = (n[:, 2] < -math.cos(math.radians(BRIDGE_TILT_DEG))) & (tri[:, :, 2].max(axis=1) > BED_CONTACT_MM)
+    if not ceiling.any():
+        return []
+    adj, edges = mesh.face_adjacency, mesh.face_adjacency_edges
+    regions = trimesh.graph.connected_components(adj[ceiling[adj[:, 0]] & ceiling[adj[:, 1]]],
+                                                 nodes=np.nonzero(ceiling)[0], min_len=1)
+    rim = ceiling[adj[:, 0]] ^ ceiling[adj[:, 1]]
+    inner = np.where(ceiling[adj[:, 0]], adj[:, 0], adj[:, 1])[rim]
+    outer = np.where(ceiling[adj[:, 0]], adj[:, 1], adj[:, 0])[rim]
+    rim_edges = edges[rim]
+    anchored = tri[outer].mean(axis=1)[:, 2] < v[rim_edges].mean(axis=1)[:, 2] - 1e-6
+    region_of = np.full(len(f), -1)
+    for k, r in enumerate(regions):
+        region_of[r] = k
+    area = mesh.area_faces
+    out = []
+    for k, r in enumerate(regions):
+        a = float(area[r].sum())
+        if a < MIN_BRIDGE_AREA_MM2:
+            continue
+        pts = _triangle_samples(tri[r], BRIDGE_SAMPLE_MM)
+        mine = anchored & (region_of[inner] == k)
+        if not mine.any():
+            at = pts[np.argmin(pts[:, 2])]
+            out.append(Bridge(math.inf, a, tuple(float(x) for x in (at + [0.0, 0.0, z0]) @ R), float(limit_mm)))
+            continue
+        seg = v[rim_edges[mine]]                                    # (s, 2, 3)
+        anchors = _triangle_samples(np.concatenate([seg, seg[:, :1]], axis=1), BRIDGE_SAMPLE_MM)[:, :2]
+        d, _ = cKDTree(anchors).query(pts[:, :2])
+        j = int(np.argmax(d))
+        out.append(Bridge(2.0 * float(d[j]), a, tuple(float(x) for x in (pts[j] + [0.0, 0.0, z0]) @ R), float(limit_mm)))
+    return out

@@ -68,6 +68,7 @@ class ReportPart:
     support_area_mm2: float | None = None      # overhang needing support in the print orientation
     orientations: tuple = ()                   # (rotation, support mm^2, fits) of the orientations tried
     thin_walls: tuple = ()                     # exports.printability.ThinWall of the part (body frame)
+    bridges: tuple = ()                        # exports.printability.Bridge over print.max_bridge_mm (body frame)
 
 
 def as_report_part(part) -> ReportPart:
@@ -79,7 +80,7 @@ def as_report_part(part) -> ReportPart:
                       np.asarray(exp.mesh.faces), tuple(float(v) for v in exp.print_size_mm), float(exp.volume_mm3),
                       tuple(float(v) for v in spec.print_rotation), spec.mass_kg,
                       getattr(exp, "support_area_mm2", None), tuple(getattr(exp, "orientations", ()) or ()),
-                      tuple(getattr(exp, "thin_walls", ()) or ()))
+                      tuple(getattr(exp, "thin_walls", ()) or ()), tuple(getattr(exp, "bridges", ()) or ()))
 
 
 class Progress:

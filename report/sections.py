@@ -128,6 +128,15 @@ def parts_section(p: Params, parts, part_pics: dict | None, mp: dict | None) -> 
             under = sum(t.thickness_mm < lw for t in x.thin_walls)
             rot += (f"walls under {2 * lw:g} mm: {len(x.thin_walls)} ({under} under {lw:g}), thinnest "
                     f"{w.thickness_mm:.2f} at ({', '.join(f'{v:.0f}' for v in w.at_mm)}), ")
+        if x.bridges:        # exports/printability.bridges over print.max_bridge_mm
+            spans = [b for b in x.bridges if not math.isinf(b.span_mm)]
+            hanging = len(x.bridges) - len(spans)
+            if spans:
+                b = max(spans, key=lambda b: b.span_mm)
+                rot += (f"bridges over {p.print.max_bridge_mm:g} mm: {len(spans)}, longest {b.span_mm:.1f} mm over "
+                        f"{b.area_mm2:.0f} mm&sup2; at ({', '.join(f'{v:.0f}' for v in b.at_mm)}), ")
+            if hanging:
+                rot += f"ceilings with no edge on material below: {hanging}, "
         pic = img(part_pics[x.label], x.label) if part_pics and x.label in part_pics else ""
         cards.append(f'<div class="card" id="part-{esc(x.label)}">{pic}<div class="cbody">'
                      f'<div class="cname">{esc(x.label)}</div>'

@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import json
+import math
 import os
 import re
 import shutil
@@ -654,6 +655,7 @@ def summary_table(result: BuildResult) -> str:
         lines.append(f"fastener checks passed: {len(fr.fasteners)} fasteners ({what}) in "
                      f"{len(fr.per_part())} parts, walls, engagement, lengths and drivers' paths{worst}{mates}")
     lines.append(thin_wall_summary(result))
+    lines.append(bridge_summary(result))
     dr = result.dry_report
     if dr is not None:
         lines.append(dry_wall_summary(result.params, dr))
@@ -682,6 +684,30 @@ def thin_wall_summary(result: BuildResult) -> str:
     return (f"walls (ray-cast probe): {len(walls)} region(s) under two perimeters ({2 * lw:g} mm) on "
             f"{len({x for x, _ in walls})} of {len(printed)} printed parts, {len(under)} under one line width "
             f"({lw:g} mm) on {len({x for x, _ in under})}; thinnest: {lb}, {w} (each part's count on its card in report.html)")
+
+
+def bridge_summary(result: BuildResult) -> str:
+    """The bridge rule over every printed part in its print orientation (exports/printability.bridges): each
+    nearly horizontal ceiling that spans more than ``print.max_bridge_mm`` between edges with material below, or
+    has no such edge. A finding, not a refusal (a slicer supports what it cannot bridge: it is in the support
+    area)."""
+    limit = result.params.print.max_bridge_mm
+    printed = [bp for bp in result.parts if bp.spec.printed]
+    found = [(bp.spec.label, b) for bp in printed for b in getattr(bp.export, "bridges", ())]
+    if not found:
+        return f"bridges: none over {limit:g} mm (print.max_bridge_mm) on the {len(printed)} printed parts"
+    hanging = [(lb, b) for lb, b in found if math.isinf(b.span_mm)]
+    spans = [(lb, b) for lb, b in found if not math.isinf(b.span_mm)]
+    text = (f"bridges over {limit:g} mm (print.max_bridge_mm): {len(spans)} on "
+            f"{len({lb for lb, _ in spans})} of {len(printed)} printed parts")
+    if spans:
+        lb, b = max(spans, key=lambda t: t[1].span_mm)
+        text += f"; longest: {lb}, {b}"
+    if hanging:
+        lb, b = max(hanging, key=lambda t: t[1].area_mm2)
+        text += (f"; {len(hanging)} ceiling(s) with no edge on material below (support starts them), the "
+                 f"largest: {lb}, {b.area_mm2:.1f} mm^2 at ({', '.join(f'{v:.1f}' for v in b.at_mm)}) mm")
+    return text + " (each part's on its card in report.html)"
 
 
 def dry_wall_summary(p: Params, dr) -> str:

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from swiftfin.exports.printability import best_orientation, overhang, rotation_matrix
+from swiftfin.exports.printability import BRIDGE_SAMPLE_MM, best_orientation, bridges, overhang, rotation_matrix
 
 
 def _mesh(solid):
@@ -156,3 +156,122 @@ def test_the_wall_probe_measures_the_hull_skin_as_the_wall_parameter(default_par
         & (points[:, 2] > 40.0)
     assert crest.sum() > 100
     assert np.median(thickness[crest]) == pytest.approx(p.hull.wall_thickness_mm, abs=0.01)
+
+
+# ---------------------------------------------------------------------------------------------------- bridges
+def _tunnel(width_mm: float, height_mm: float = 8.0, stalactite: bool = False):
+    """A 40 x 30 x 15 mm block on the bed with a tunnel ``width_mm`` wide and ``height_mm`` high through it along x:
+    its ceiling bridges the tunnel's width. ``stalactite``: a 4 x 4 x 2 mm block hangs from the ceiling's middle."""
+    from swiftfin.cad.kernel import bd
+    block = bd.Solid.make_box(40, 30, 15).translate((-20, -15, 0))
+    s = block.cut(bd.Solid.make_box(50, width_mm, height_mm).translate((-25, -width_mm / 2, 0)))
+    if stalactite:
+        s = s.fuse(bd.Solid.make_box(4, 4, 2).translate((-2, -2, height_mm - 2)))
+    return s.clean()
+
+
+def test_a_tunnel_bridges_its_width_a_ledge_twice_its_reach_and_a_hanging_block_nothing():
+    """Closed forms: a tunnel's ceiling spans the tunnel's width (both long edges stand on its walls; its open ends
+    hold nothing); a T's 10 mm ledges are anchored on the stem alone, so each spans 20 mm (its tip is as far from
+    the stem as the middle of a 20 mm bridge from its ends); a block hanging from a ceiling has no edge with
+    material below it; a box on the bed, and the T upside down, bridge nothing."""
+    from swiftfin.cad.kernel import bd
+    for width in (12.0, 20.0):
+        v, f = _mesh(_tunnel(width))
+        (b,) = bridges(v, f, 10.0)
+        assert b.span_mm == pytest.approx(width, abs=2 * BRIDGE_SAMPLE_MM)
+        assert b.area_mm2 == pytest.approx(40.0 * width, rel=1e-9)
+        assert b.at_mm[2] == pytest.approx(8.0) and abs(b.at_mm[1]) <= BRIDGE_SAMPLE_MM   # on the tunnel's centre line
+    stem = bd.Solid.make_box(10, 10, 10).translate((-5, -5, 0))
+    top = bd.Solid.make_box(30, 10, 2).translate((-15, -5, 10))
+    v, f = _mesh(stem.fuse(top).clean())
+    spans = sorted(b.span_mm for b in bridges(v, f, 10.0))
+    assert spans == pytest.approx([20.0, 20.0], abs=2 * BRIDGE_SAMPLE_MM)
+    assert bridges(v, f, 10.0, up=(0.0, 0.0, -1.0)) == []              # printed on its top: nothing hangs
+    v, f = _mesh(bd.Solid.make_box(20, 10, 5))
+    assert bridges(v, f, 10.0) == []
+    v, f = _mesh(_tunnel(20.0, stalactite=True))
+    found = sorted(bridges(v, f, 10.0), key=lambda b: b.area_mm2)
+    assert math.isinf(found[0].span_mm) and found[0].area_mm2 == pytest.approx(16.0, rel=1e-9)
+    assert found[0].at_mm[2] == pytest.approx(6.0)
+    assert found[1].span_mm == pytest.approx(20.0, abs=2 * BRIDGE_SAMPLE_MM)   # the ceiling round it
+
+
+def test_bridges_measured_in_the_print_frame_are_reported_in_the_parts_frame():
+    """The same T turned 90 deg about x and printed with the turned vertical: the same spans, and the farthest
+    points turned with it."""
+    from swiftfin.cad.kernel import bd
+    stem = bd.Solid.make_box(10, 10, 10).translate((-5, -5, 0))
+    top = bd.Solid.make_box(30, 10, 2).translate((-15, -5, 10))
+    v, f = _mesh(stem.fuse(top).clean())
+    R = rotation_matrix(90.0, 0.0, 0.0)
+    flat = sorted(bridges(v, f, 10.0), key=lambda b: b.at_mm[0])
+    turned = sorted(bridges(v @ R.T, f, 10.0, up=R @ [0.0, 0.0, 1.0]), key=lambda b: (R.T @ b.at_mm)[0])
+    for a, b in zip(flat, turned):
+        assert b.span_mm == pytest.approx(a.span_mm, abs=1e-9)
+        assert R.T @ np.asarray(b.at_mm) == pytest.approx(np.asarray(a.at_mm), abs=1e-6)
+
+
+def test_prusaslicer_bridges_the_tunnels_the_way_we_measure_them(tmp_path, default_params):
+    """Independent check: PrusaSlicer slices the two tunnels with the design's settings. Its bridge layer over each
+    tunnel's ceiling runs across the tunnel (along y), and its longest bridge thread is our span plus the same
+    anchoring at the two ends for both widths (so the 8 mm between the tunnels is 8 mm in both)."""
+    import re
+    from swiftfin.exports.files import print_transform, stl_bytes, tessellate
+    from swiftfin.exports.slicer import slice_stl
+    from tests.conftest import require_tool
+    require_tool("prusa-slicer", "the bridge measure is checked against the slicer's own bridges")
+    p = default_params
+    extra = []
+    for width in (12.0, 20.0):
+        m = tessellate(_tunnel(width), 0.05, 10.0)
+        (b,) = bridges(m.vertices, m.faces, p.print.max_bridge_mm)
+        m = m.transformed(print_transform(m, (0, 0, 0), p.print.bed_x_mm, p.print.bed_y_mm))
+        stl, gcode = tmp_path / f"tunnel_{width:g}.stl", tmp_path / f"tunnel_{width:g}.gcode"
+        stl.write_bytes(stl_bytes(m, "tunnel"))
+        slice_stl(stl, p, gcode_out=gcode)
+        x = y = z = 0.0
+        kind, threads = None, []
+        for line in gcode.read_text().splitlines():
+            if line.startswith(";TYPE:"):
+                kind = line[6:].strip()
+            elif line.startswith(("G1 ", "G0 ")):
+                d = {k: float(val) for k, val in re.findall(r"([XYZE])([-\d.]+)", line)}
+                nx, ny, z = d.get("X", x), d.get("Y", y), d.get("Z", z)
+                if kind == "Bridge infill" and d.get("E", 0.0) > 0 and 8.0 < z <= 8.0 + 2 * p.print.layer_height_mm:
+                    threads.append((abs(nx - x), abs(ny - y)))
+                x, y = nx, ny
+        threads = np.array(threads)
+        assert len(threads), width
+        longest = threads[np.argmax(np.hypot(threads[:, 0], threads[:, 1]))]
+        assert longest[0] < 0.05 * longest[1]                # across the tunnel
+        extra.append(longest[1] - b.span_mm)
+    assert 0.0 < extra[0] < 10.0
+    assert extra[1] == pytest.approx(extra[0], abs=0.5)
+
+
+@pytest.mark.slow
+def test_the_default_parts_bridges_are_on_their_surface_and_inside_their_support(default_params, default_parts):
+    """On built parts, as exported (exports.files.export_part: print orientation chosen, bridges over
+    ``print.max_bridge_mm`` kept): each reported bridge's farthest point lies on the part's surface, and the
+    bridges are part of the area the overhang count already supports (a ceiling within 10 deg of horizontal leans
+    past any support angle): their plan area is within the part's support area. Cross-checks of two independent
+    computations on the same mesh. The upper hull halves print upright, so their crown is a ceiling."""
+    import math
+    import trimesh
+    from swiftfin.exports.files import export_part
+    p = default_params
+    found = {}
+    for label in ("hull_body_1_upper", "joint_link_4"):
+        spec = next(s for s in default_parts if s.label == label)
+        exp = export_part(spec, p)
+        assert exp.bridges, label
+        tri = np.asarray(exp.mesh.vertices)[np.asarray(exp.mesh.faces)]
+        for b in exp.bridges:
+            assert b.span_mm > p.print.max_bridge_mm and b.limit_mm == p.print.max_bridge_mm
+            on = trimesh.triangles.closest_point(tri, np.tile(b.at_mm, (len(tri), 1)))
+            assert np.linalg.norm(on - np.asarray(b.at_mm), axis=1).min() < 0.05, (label, b)
+        plan = sum(b.area_mm2 for b in exp.bridges) * math.cos(math.radians(10.0))
+        assert plan <= exp.support_area_mm2 + 1e-6, (label, plan, exp.support_area_mm2)
+        found[label] = max(b.span_mm for b in exp.bridges)
+    assert found["hull_body_1_upper"] > 30.0          # the crown of an upright shell: about its inner width
