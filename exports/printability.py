@@ -189,6 +189,8 @@ def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: i
         i = members[np.argmin(thickness[members])]
         out.append(ThinWall(float(thickness[i]), float(area), tuple(float(v) for v in points[i]), float(limit[i])))
     return sorted(out, key=lambda w: w.thickness_mm)
+
+
 # ----------------------------------------------------------------------------------------------- bridges
 BRIDGE_TILT_DEG = 10.0
 """A downward face within this angle of horizontal is laid as a bridge: the slicer strings its first layer across
@@ -210,12 +212,17 @@ class Bridge:
     ceiling hanging in mid-air, which only support can start."""
     span_mm: float
     area_mm2: float
-    at_mm: tuple[float, float, float]     # the point farthest from an anchor (the mesh's frame)
+    at_mm: tuple[float, float, float]     # farthest from an anchor (a hanging one: its lowest point); mesh frame
     limit_mm: float
+
+    @property
+    def hanging(self) -> bool:
+        """No edge of it has material below: only support can start it."""
+        return math.isinf(self.span_mm)
 
     def __str__(self) -> str:
         x, y, z = self.at_mm
-        span = "no anchored edge" if math.isinf(self.span_mm) else f"{self.span_mm:.1f} mm span"
+        span = "no anchored edge" if self.hanging else f"{self.span_mm:.1f} mm span"
         return (f"{span} (limit {self.limit_mm:.1f}) over {self.area_mm2:.1f} mm^2, farthest from an anchor at "
                 f"({x:.1f}, {y:.1f}, {z:.1f}) mm")
 
@@ -235,6 +242,14 @@ def _triangle_samples(tri: np.ndarray, step_mm: float) -> np.ndarray:
         t = tri[div == k]
         out.append(np.einsum("mk,tkd->tmd", w, t).reshape(-1, 3))
     return np.vstack(out)
+
+
+def _segment_samples(seg: np.ndarray, step_mm: float) -> np.ndarray:
+    """Points along each segment of ``seg`` (s, 2, d), its ends included, no farther apart than ``step_mm``."""
+    n = np.maximum(1, np.ceil(np.linalg.norm(seg[:, 1] - seg[:, 0], axis=1) / step_mm)).astype(int)
+    t = np.concatenate([np.linspace(0.0, 1.0, k + 1) for k in n])
+    i = np.repeat(np.arange(len(seg)), n + 1)
+    return seg[i, 0] + t[:, None] * (seg[i, 1] - seg[i, 0])
 
 
 def bridges(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, up=(0.0, 0.0, 1.0)) -> list[Bridge]:
@@ -290,9 +305,9 @@ def bridges(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, up=(0.0, 0
             at = pts[np.argmin(pts[:, 2])]
             out.append(Bridge(math.inf, a, tuple(float(x) for x in (at + [0.0, 0.0, z0]) @ R), float(limit_mm)))
             continue
-        seg = v[rim_edges[mine]]                                    # (s, 2, 3)
-        anchors = _triangle_samples(np.concatenate([seg, seg[:, :1]], axis=1), BRIDGE_SAMPLE_MM)[:, :2]
+        anchors = _segment_samples(v[rim_edges[mine]][:, :, :2], BRIDGE_SAMPLE_MM)      # in plan
         d, _ = cKDTree(anchors).query(pts[:, :2])
         j = int(np.argmax(d))
-        out.append(Bridge(2.0 * float(d[j]), a, tuple(float(x) for x in (pts[j] + [0.0, 0.0, z0]) @ R), float(limit_mm)))
+        at = tuple(float(x) for x in (pts[j] + [0.0, 0.0, z0]) @ R)
+        out.append(Bridge(2.0 * float(d[j]), a, at, float(limit_mm)))
     return out

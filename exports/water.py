@@ -129,7 +129,8 @@ def ballast_height(trim: dict, link_inertial, keep_out=(), clearance_m: float = 
     mass and low gives the link a product of inertia ``I_xz``: its principal axes tilt, a yaw torque (every
     tail beat's recoil) then rolls it in phase, and the rectified ``(I_xx - I_zz) w_x w_z`` pitches the
     swimming fish (MuJoCo, default design, 30 s free at 3 Hz: head ``I_xz`` 3.5e-4 kg m^2 on the floor -> a steady
-    8.0 deg nose down; 0 -> 1.3 deg, within a degree of the best height; README, *Trim*). So the ballast's height is where its link's ``I_xz`` about the link's new COM is zero,
+    8.0 deg nose down; 0 -> 1.3 deg, within a degree of the best height; README, *Trim*). So the ballast's
+    height is where its link's ``I_xz`` about the link's new COM is zero,
     ``z = z_L + I_xz,L / (mu dx)`` (``mu`` the reduced mass of link and ballast, ``dx`` the ballast's station
     less the link's COM; off-diagonal parallel-axis term ``-mu dx dz``), or the nearest height to it that is
     inside the section's room (``trim['z_room_m']`` either side of the axis) and keeps the sphere

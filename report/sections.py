@@ -129,7 +129,7 @@ def parts_section(p: Params, parts, part_pics: dict | None, mp: dict | None) -> 
             rot += (f"walls under {2 * lw:g} mm: {len(x.thin_walls)} ({under} under {lw:g}), thinnest "
                     f"{w.thickness_mm:.2f} at ({', '.join(f'{v:.0f}' for v in w.at_mm)}), ")
         if x.bridges:        # exports/printability.bridges over print.max_bridge_mm
-            spans = [b for b in x.bridges if not math.isinf(b.span_mm)]
+            spans = [b for b in x.bridges if not b.hanging]
             hanging = len(x.bridges) - len(spans)
             if spans:
                 b = max(spans, key=lambda b: b.span_mm)

@@ -17,7 +17,6 @@ from __future__ import annotations
 import dataclasses
 import functools
 import json
-import math
 import os
 import re
 import shutil
@@ -693,11 +692,11 @@ def bridge_summary(result: BuildResult) -> str:
     area)."""
     limit = result.params.print.max_bridge_mm
     printed = [bp for bp in result.parts if bp.spec.printed]
-    found = [(bp.spec.label, b) for bp in printed for b in getattr(bp.export, "bridges", ())]
+    found = [(bp.spec.label, b) for bp in printed for b in bp.export.bridges]
     if not found:
         return f"bridges: none over {limit:g} mm (print.max_bridge_mm) on the {len(printed)} printed parts"
-    hanging = [(lb, b) for lb, b in found if math.isinf(b.span_mm)]
-    spans = [(lb, b) for lb, b in found if not math.isinf(b.span_mm)]
+    hanging = [(lb, b) for lb, b in found if b.hanging]
+    spans = [(lb, b) for lb, b in found if not b.hanging]
     text = (f"bridges over {limit:g} mm (print.max_bridge_mm): {len(spans)} on "
             f"{len({lb for lb, _ in spans})} of {len(printed)} printed parts")
     if spans:

@@ -4,12 +4,13 @@ parameter file), driven by the travelling wave (physics.kinematics, eq. 43-47, r
 Checked here: the wave runs from head to tail in the simulated joints; a positive joint angle turns the tail
 toward +y; the fluid geoms are the head's envelope, slender hull-link slices and a thin-plate caudal fin of
 the fin's span and area, with MuJoCo's default coefficients on the fin and the hull's without their Kutta lift
-(physics.swim_sim.FLUIDCOEF_HULL, argued there; test_free_fish_stays_level_for_30_s_and_why is its control). The fish is trimmed by the mass
-model (flooded tail, lead ballast: neutral, COM under the COB) and swims forward free in all six degrees of
-freedom, staying level, and held level (planar) for the speed table, at about a twenty-fifth of the paper's speed. Why so slow (test_what_limits_the_speed_in_mujoco): MuJoCo's quasi-steady
-model has no reactive (shed-wake) thrust - its Kutta lift on the fin is ~1/14 of Lighthill's elongated-body
-thrust for the same tail motion - and its added-mass force keeps only (rho m_v v) x omega of the Kirchhoff
-force, dropping -rho m_v dv/dt: the whole force has zero mean over a period, MuJoCo's half a backward one.
+(physics.swim_sim.FLUIDCOEF_HULL, argued there; test_free_fish_stays_level_for_30_s_and_why is its control). The
+fish is trimmed by the mass model (flooded tail, lead ballast: neutral, COM under the COB) and swims forward free in
+all six degrees of freedom, staying level, and held level (planar) for the speed table, at about a twenty-fifth of
+the paper's speed. Why so slow (test_what_limits_the_speed_in_mujoco): MuJoCo's quasi-steady model has no reactive
+(shed-wake) thrust - its Kutta lift on the fin is ~1/14 of Lighthill's elongated-body thrust for the same tail
+motion - and its added-mass force keeps only (rho m_v v) x omega of the Kirchhoff force, dropping -rho m_v dv/dt:
+the whole force has zero mean over a period, MuJoCo's half a backward one.
 
 Slow: the default design's parts (~15-30 s, once per session) and its robot folder (~20-40 s) are built here.
 """
@@ -25,7 +26,8 @@ from swiftfin.physics.kinematics import relative_joint_angles_rad, wave_from_par
 from tests.conftest import require_module
 
 mujoco = require_module("mujoco", "MuJoCo (the mujoco package) runs the swimming model")
-from swiftfin.physics.swim_sim import FLUIDCOEF_DEFAULT, FLUIDCOEF_HULL, fluid_force_terms, load_model, swim  # noqa: E402
+from swiftfin.physics.swim_sim import (FLUIDCOEF_DEFAULT, FLUIDCOEF_HULL, fluid_force_terms,  # noqa: E402
+                                        load_model, swim)
 
 pytestmark = pytest.mark.slow
 
@@ -252,16 +254,17 @@ def test_free_fish_stays_level_for_30_s_and_why(real_robot, default_params, tmp_
     The control, the reason the hull's ellipsoids carry no Kutta lift (physics.swim_sim.FLUIDCOEF_HULL): the
     same file with MuJoCo's default coefficients on every ellipsoid (the fluidcoef attributes taken out) porpoises,
     a slow pitch oscillation that grows past 10 deg within the 30 s (measured: +-20 deg, 0.22 Hz)."""
-    import re
+    import shutil
+    from swiftfin.exports.urdf import fmt
     path, _ = real_robot
     f = default_params.swimming.tail_beat_frequency_hz
     seconds = 30.0
     text = path.read_text()
-    assert text.count('fluidcoef="0.5 0.25 1.5 0.0 1.0"') == default_params.joints.count + 1
+    hull = f' fluidcoef="{fmt(*FLUIDCOEF_HULL)}"'
+    assert text.count(hull) == default_params.joints.count + 1
     plain = tmp_path / "robot" / path.name
-    import shutil
     shutil.copytree(path.parent, plain.parent)
-    plain.write_text(re.sub(r' fluidcoef="0\.5 0\.25 1\.5 0\.0 1\.0"', "", text))
+    plain.write_text(text.replace(hull, ""))
     rows = {}
     for label, file in (("exported", path), ("hull with Kutta lift", plain)):
         r = swim(file, default_params, frequency_hz=f, duration_s=seconds, planar=False)
@@ -274,7 +277,8 @@ def test_free_fish_stays_level_for_30_s_and_why(real_robot, default_params, tmp_
     assert big < 5.0 and swing_late <= swing_before + 0.5, rows["exported"]
     assert rows["hull with Kutta lift"][0] > 10.0, rows["hull with Kutta lift"]
     with capsys.disabled():
-        print(f"\n  MuJoCo, FREE, {seconds:.0f} s at {f:g} Hz: largest pitch, pitch swing over 10-20 s and 20-30 s, speed")
+        print(f"\n  MuJoCo, FREE, {seconds:.0f} s at {f:g} Hz: largest pitch, pitch swing over 10-20 s and "
+              "20-30 s, speed")
         for label, (big, b, late, u) in rows.items():
             print(f"  {label:22s}: {big:5.1f} deg, {b:5.1f} / {late:5.1f} deg, {u:+.3f} m/s")
 
