@@ -138,6 +138,10 @@ CONTACTS: tuple[Contact, ...] = (
             "(cad/guide.py)"),
     Contact(r"flotation_\d+", r"hull_.+", "a flotation foam block is glued into the lower "
             "half of its flooded segment where its sides meet the shell (layout/flotation_plan.py)", link_delta=0),
+    Contact(r"cradle_.+", r"hull_.+", "a component's cradle is bonded with epoxy into the hull's lower half along "
+            "its underside (cad/cradle.py)", link_delta=0),
+    Contact(r"cradle_(?P<c>.+)", r"(?P<c>.+)", "a component sits in its cradle's pocket on a hook-and-loop pad, "
+            "its walls print.clearance_sliding_mm from its sides (cad/cradle.py)", link_delta=0),
     Contact(r"spool_(?P<j>\d+)_upper", r"spool_(?P<j>\d+)", "the split spool's upper half sits on the lower half "
             "at the cable plane, locked by the index screw (cad/spool.py)"),
     Contact(r"spool_(?P<j>\d+)_upper", r"motor_(?P<j>\d+)", "the spool's upper half turns on its motor's shaft "

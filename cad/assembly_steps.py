@@ -75,6 +75,7 @@ REMOVAL: tuple[tuple[str, tuple[str, ...], str], ...] = (
     (r"spool_\d+", ("+z",), "Slide the spools onto the motor shafts and tighten the set screws on the flats"),
     (r"motor_mount_\d+", ("+z",), "Set the motor units (each motor screwed to its mount's plate on the bench) "
      "into the head's lower halves"),
+    (r"cradle_.+", ("+z",), "Bond the components' cradles into the head's lower halves with epoxy (cad/cradle.py)"),
     (r"hull_head_.+", ("-z", "+z"), "Lay out the head's lower halves and join their splices"),
     (r"joint_link_\d+", ("+z", "+x", "-x"), "Fit the joint link into the clevis ahead, press in the hinge pins and "
      "drive the plugs; bolt the link's flange to its segment's front bulkhead"),

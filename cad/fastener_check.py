@@ -255,6 +255,13 @@ GLUED: tuple[Glued, ...] = (
           "a flotation foam block is glued into its flooded segment's lower shell (its lift, under 0.2 N, needs "
           "no rated bond area: any contact glue holds it; area 0 = not sized). Every other joint comes apart "
           "for service"),
+    Glued(r"cradle_.+", r"hull_.+", 0.0,
+          "a component's cradle is bonded with epoxy into the hull's lower half along its whole underside (its "
+          "footprint, in cm^2, on the bill of materials; the load, the component's weight under a few g of "
+          "handling, is under 1 kPa a g over it: not sized)"),
+    Glued(r"cradle_(?P<c>.+)", r"(?P<c>.+)", 0.0,
+          "a component is held in its cradle's pocket by a self-adhesive hook-and-loop pad under it "
+          "(catalogues/mounting.toml): it pulls out to be charged or swapped", how="pad"),
     Glued(r"spool_(?P<j>\d+)_upper", r"motor_(?P<j>\d+)", 0.0,
           "the split spool's upper half turns on its motor's shaft (a bearing fit, sliding clearance): it is held "
           "to the lower half, which the set screw fixes on the shaft, by the index screw", how="bearing"),

@@ -288,6 +288,24 @@ def _splice_pads(p: Params, pc: HullPiece, front: HullPiece) -> list[bd.Solid]:
                             band), f"{pc.name} splice pad") for pt, n in _splice_frames(p, sj)]
 
 
+def splice_keep_outs(p: Params, grow_mm: float) -> list[bd.Solid]:
+    """The room the station splices' tabs and pads take inside the hull, grown by ``grow_mm``: for each splice
+    screw's line a box over the tab's and the pad's length, as wide as the wider of them and as deep along the
+    line's inward normal as the deeper (the tab's band ends ``tab_inner_shrink_mm`` in from the skin). For the parts
+    that stand inside the hull near a splice (:mod:`swiftfin.cad.cradle`): what they keep out of."""
+    out = []
+    for pc in hull_pieces(p):
+        if not pc.rear_cut:
+            continue
+        sj = splice_joint(p, pc)
+        s, lsp, cs = sj.s_cut_mm, SPLICE_LENGTH_MM, p.hull.splice_fit_clearance_mm
+        half = max(sj.tab_half_width_mm, sj.pad_half_width_mm) + grow_mm
+        depth = max(sj.tab_inner_shrink_mm, sj.pad_shrink_mm) + grow_mm
+        for pt, n in _splice_frames(p, sj):
+            out.append(_slab(-(s + lsp + cs + grow_mm), -(s - lsp - grow_mm), pt, n, half, 1.0, depth))
+    return out
+
+
 def _seam_bosses(p: Params, pc: HullPiece, outer: bd.Solid) -> list[bd.Shape]:
     """Each seam feature's boss in the upper half and boss (a screw: column to the skin) in the lower half, grown
     from the seam face and kept inside the skin. A screw's column is D-shaped: round on the inside, its outer half

@@ -12,7 +12,8 @@ class PartSpec:
     ``solid``: a build123d ``Solid``/``Part`` in the **body frame at rest, in millimetres** (see layout/geometry.py).
     ``label``: unique, snake_case; becomes the STEP product name and the file stem (``hull_head_upper``).
     ``link``: kinematic link index (0 = head/base, j = behind joint j).
-    ``family``: the module that made it ("hull", "fin", "link", "spool", "guide", "mount", "bought").
+    ``family``: the module that made it ("hull", "fin", "link", "spool", "guide", "mount", "cradle",
+    "bought").
     ``printed``: True for parts to print; False for bought parts (motors, battery, ...).
     ``print_rotation``: rotation (rx, ry, rz) in degrees, applied about the origin before the part is dropped
     onto the bed (min z = 0) for the printable STL/3MF/STEP: the print orientation.

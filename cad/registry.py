@@ -10,6 +10,7 @@ FAMILIES: dict[str, str] = {
     "spool": "swiftfin.cad.spool:make_spools",
     "mount": "swiftfin.cad.mount:make_motor_mounts",
     "guide": "swiftfin.cad.guide:make_guides",
+    "cradle": "swiftfin.cad.cradle:make_cradles",
     "bought": "swiftfin.cad.bought:make_bought_parts",
 }
 

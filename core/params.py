@@ -588,10 +588,13 @@ def to_dict(p: Params) -> dict:
 
 
 def get_key(p: Params, dotted: str) -> Any:
-    """Value of a dotted key such as ``spool.drum_diameter_mm``."""
+    """Value of a dotted key such as ``spool.drum_diameter_mm`` (or ``components[0].z_mm``: an entry of a list)."""
     obj: Any = p
     for part in dotted.split("."):
-        obj = getattr(obj, part)
+        name, _, index = part.partition("[")
+        obj = getattr(obj, name)
+        if index:
+            obj = obj[int(index.rstrip("]"))]
     return obj
 
 

@@ -318,8 +318,14 @@ def _scaled_battery(comp: dict, ratio: float, energy_wh: float) -> dict:
 
 def battery_fits(p: Params) -> bool:
     """Whether the design's battery box, every corner, lies inside the hull's inner surface by the assembly
-    clearance (``layout.geometry.inner_envelope_excess_mm``, the build's own test of it): a battery the search
-    grew must still go in. No battery: True."""
+    clearance (``layout.geometry.inner_envelope_excess_mm``, the build's own test of it), with room for its cradle
+    under it (``layout.cradle_plan.cradles``): a battery the search grew must still go in. No battery: True."""
+    from swiftfin.core.errors import UserError
+    from swiftfin.layout.cradle_plan import cradles
+    try:
+        cradles(p)
+    except UserError:
+        return False
     for c in p.components:
         if c.name != "battery":
             continue

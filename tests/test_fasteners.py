@@ -183,7 +183,8 @@ def test_every_fastener_of_the_default_design_names_its_parts(default_params, de
 def test_a_touching_pair_of_the_contact_table_needs_a_fastener_or_a_declared_joint(default_params):
     """``unfastened_contacts`` (run in every build's fastener check): a pair the contact table lets touch, that
     touches, is named unless a fastener record joins it or GLUED declares how it is held; a pair apart, the
-    diagonal hull halves that meet on an edge, and a spool's upper half on its shaft (a bearing) are not."""
+    diagonal hull halves that meet on an edge, a spool's upper half on its shaft (a bearing) and a component on its
+    cradle's pad are not."""
     from swiftfin.cad.assembly import Placed
     from swiftfin.cad.fastener_check import unfastened_contacts
     from swiftfin.cad.link import box
@@ -211,3 +212,8 @@ def test_a_touching_pair_of_the_contact_table_needs_a_fastener_or_a_declared_joi
     assert unfastened_contacts(p, [upper, shaft], []) == []                    # turns on it: a bearing fit
     lower = placed("spool_1", box(0, 10, 0, 10, 10, 20))
     assert len(unfastened_contacts(p, [lower, shaft], [])) == 1                # fixed on it: by its set screw
+    cradle = placed("cradle_radio", box(0, 10, 0, 10, 0, 10))
+    radio = placed("radio", box(0, 10, 0, 10, 10, 20))
+    other = placed("battery", box(0, 10, 0, 10, 10, 20))
+    assert unfastened_contacts(p, [cradle, radio], []) == []                   # on its pad
+    assert unfastened_contacts(p, [cradle, other], []) == []                   # not its cradle: no contact at all
