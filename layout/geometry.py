@@ -38,8 +38,17 @@ from swiftfin.core.schema import Body, Params
 
 
 # ----------------------------------------------------------------------------------------------- hull profile
+def _naca_scalar(xi: float, t: float) -> float:
+    xi = min(max(xi, 0.0), 1.0)
+    return 5.0 * t * (0.2969 * math.sqrt(xi) - 0.1260 * xi - 0.3516 * xi**2 + 0.2843 * xi**3 - 0.1015 * xi**4)
+
+
 def naca_half_thickness(xi, t: float):
-    """NACA 00xx half thickness / chord at xi = s/L in [0, 1] (open trailing edge, standard coefficients)."""
+    """NACA 00xx half thickness / chord at xi = s/L in [0, 1] (open trailing edge, standard coefficients). A
+    Python number gives a float by :mod:`math` (the layout's plans call it some 10^5 times per design, where numpy's
+    per-call cost was most of the time); arrays go through numpy."""
+    if isinstance(xi, (float, int)):
+        return _naca_scalar(float(xi), t)
     xi = np.clip(np.asarray(xi, dtype=float), 0.0, 1.0)
     return 5.0 * t * (0.2969 * np.sqrt(xi) - 0.1260 * xi - 0.3516 * xi**2 + 0.2843 * xi**3 - 0.1015 * xi**4)
 
@@ -47,6 +56,8 @@ def naca_half_thickness(xi, t: float):
 def naca_half_width_mm(p: Params, s_mm):
     """Outer half-width of the hull at station s [mm] (NACA 00xx thickness distribution)."""
     L = p.body.length_mm
+    if isinstance(s_mm, (float, int)):
+        return _naca_scalar(float(s_mm) / L, p.body.naca_thickness_fraction) * L
     return naca_half_thickness(np.asarray(s_mm, dtype=float) / L, p.body.naca_thickness_fraction) * L
 
 

@@ -9,6 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from swiftfin.catalogues.fasteners import ScrewSize, dowel, fastener, screw_sizes
 from swiftfin.core.errors import UserError
 from swiftfin.core.params import Problem
@@ -179,23 +181,25 @@ def _row_clear_of_passages(p: Params, x_front_mm: float, s: ScrewSize, y_mm: flo
     depth = s.insert_pocket_depth_mm
     xs = [x_front_mm - depth * k / max(int(depth / 0.1), 1) for k in range(max(int(depth / 0.1), 1) + 1)]
 
-    def clear(y: float) -> bool:
-        for (q, d) in lines:
-            for sy in (1, -1):
-                for z in rows_z_mm:
-                    for xx in xs:
-                        v = (xx - q[0], sy * y - q[1], z - q[2])
-                        along = sum(a * b for a, b in zip(v, d))
-                        if math.sqrt(max(sum(c * c for c in v) - along * along, 0.0)) < need - 1e-9:
-                            return False
-        return True
-
-    y = y_mm
-    for _ in range(400):                   # at most 20 mm out; the room checks below refuse what does not fit
-        if clear(y):
-            return y
-        y += 0.05
-    return y
+    if not lines:
+        return y_mm
+    q = np.array([ln[0] for ln in lines], dtype=float)                  # (lines, 3)
+    d = np.array([ln[1] for ln in lines], dtype=float)
+    ys = [y_mm]
+    for _ in range(399):                   # at most 20 mm out; the room checks below refuse what does not fit
+        ys.append(ys[-1] + 0.05)           # (the steps as they were taken one by one)
+    at = np.array([(xx, sy, z) for sy in (1.0, -1.0) for z in rows_z_mm for xx in xs], dtype=float)
+    for k0 in range(0, len(ys), 20):       # 20 steps at a time: most rows are clear at the first
+        block = ys[k0:k0 + 20]
+        pts = np.repeat(at[None], len(block), axis=0)
+        pts[:, :, 1] *= np.asarray(block)[:, None]
+        v = pts.reshape(-1, 3)[None, :, :] - q[:, None, :]             # (lines, points, 3)
+        along = np.einsum("lpk,lk->lp", v, d)
+        dist = np.sqrt(np.maximum(np.einsum("lpk,lpk->lp", v, v) - along * along, 0.0))
+        ok = np.nonzero(dist.min(axis=0).reshape(len(block), -1).min(axis=1) >= need - 1e-9)[0]
+        if len(ok):
+            return block[int(ok[0])]
+    return ys[-1] + 0.05
 
 
 def _unit(v) -> tuple:
