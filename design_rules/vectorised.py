@@ -1251,14 +1251,17 @@ depth at its station, then that height stepped toward the axis in this many equa
 
 def _components_placed(p: Params) -> Params:
     """``p`` with each component (the default's, in millimetres) where it fits this hull, as a designer would move
-    it: its station moved aft or forward, if need be, into the head's hollow (the nose cap and the dry compartment's
-    rear wall move with the body), then its height, the default design's scaled by the ratio of the hulls'
-    half-heights at its station or, where that leaves a corner through the wall, the first of that height's steps
-    toward the axis that lies inside (:func:`swiftfin.layout.hull_plan.component_problems`, the loader's own check).
+    it: its station moved aft or forward, if need be, into the head's hollow with room for its cradle's ends (the
+    nose cap and the dry compartment's rear wall move with the body), then its height, the default design's scaled by the ratio of the hulls'
+    half-heights at its station or, where that leaves a corner through the wall or no floor for its cradle, the first
+    of that height's steps toward the axis that lies inside with room for its cradle
+    (:func:`swiftfin.layout.hull_plan.component_problems` and :func:`swiftfin.layout.cradle_plan.cradles`, the
+    loader's own checks).
     A component that fits nowhere on that line stays where the scaling put it: the loader then refuses the design,
     naming the component."""
     import dataclasses
 
+    from swiftfin.layout.cradle_plan import end_room_mm
     from swiftfin.layout.geometry import half_height_mm
     from swiftfin.layout.hull_plan import component_problem, head_hollow_mm
     base = Params()
@@ -1268,7 +1271,7 @@ def _components_placed(p: Params) -> Params:
         return p       # mount fixings): the loader's guarded layout checks say why, naming the key
     if hollow is None:
         return p
-    c_mm = p.print.clearance_assembly_mm
+    c_mm = max(p.print.clearance_assembly_mm, end_room_mm(p))     # room round the box, or for its cradle's ends
     length = p.body.length_mm
     comps = list(p.components)
     for i, c in enumerate(comps):
@@ -1281,10 +1284,23 @@ def _components_placed(p: Params) -> Params:
         comps[i] = c
         for k in range(COMPONENT_HEIGHT_STEPS + 1):
             trial = dataclasses.replace(c, z_mm=c.z_mm * (1 - k / COMPONENT_HEIGHT_STEPS))
-            if component_problem(p, i, trial, hollow) is None:
+            if component_problem(p, i, trial, hollow) is None and _cradle_made(p, i, trial):
                 comps[i] = trial
                 break
     return dataclasses.replace(p, components=tuple(comps))
+
+
+def _cradle_made(p: Params, i: int, c) -> bool:
+    """Whether component ``c`` (entry ``i`` of ``p.components``) gets its cradle where it stands."""
+    from swiftfin.core.errors import UserError
+    from swiftfin.layout.cradle_plan import PLACEHOLDERS, cradle_of
+    if c.name in PLACEHOLDERS:
+        return True
+    try:
+        cradle_of(p, i, c)
+    except UserError:
+        return False
+    return True
 
 
 def gland_length_needed_mm(p: Params) -> float:

@@ -131,7 +131,7 @@ def _cradle(p: Params, i: int, c) -> Cradle:
     yi = sy / 2 + clr
     yo = yi + wall
     need = p.rules.wall_min_line_widths * p.print.line_width_mm
-    s0, s1 = -px[1] - need - gap, -px[0] + need + gap
+    s0, s1 = -px[1] - need - gap, -px[0] + need + gap          # (end_room_mm beyond the box at each end)
     under = _hollow(p, s0, s1)
     if under is None:
         raise UserError(f"{key}.station_fraction = {c.station_fraction:g}: the cradle of {c.name!r} (s = {s0:.1f}.."
@@ -167,6 +167,18 @@ def _cradle(p: Params, i: int, c) -> Cradle:
     return Cradle(f"cradle_{c.name}", c.name, i, centre.link, centre.name, bonded,
                   x, px, yi, yo, floor, top, hangs, gap, pk.mated_thickness_mm, least, tuple(c.size_mm), c.mass_kg,
                   wall)
+
+
+def end_room_mm(p: Params) -> float:
+    """How far beyond a component's box, at each end along the body, its cradle needs the hollow: the sliding
+    clearance, an end wall of two perimeters and the glue line (:func:`_cradle`'s test)."""
+    return p.print.clearance_sliding_mm + p.rules.wall_min_line_widths * p.print.line_width_mm + bond_gap_mm(p)
+
+
+def cradle_of(p: Params, i: int, component) -> Cradle:
+    """The cradle ``component`` would get as entry ``i`` of ``p.components`` (UserError naming ``components[i]``
+    when it cannot be made there): for a designer trying a place before writing it in."""
+    return _cradle(p, i, component)
 
 
 @functools.lru_cache(maxsize=32)
