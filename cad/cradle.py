@@ -4,10 +4,12 @@ into the hull's lower half, with a pocket the box sits in on a hook-and-loop pad
 Numbers first (:func:`swiftfin.layout.cradle_plan.cradles`, which argues the arrangement), solid second
 (:func:`cradle_solid`): the box of the cradle's outline, from under the shell up to the walls' top, intersected
 with the shell's inner surface shrunk by the bond gap (a loft of the hull's inner ellipses, as the hull's own
-hollow), less the pocket from the floor up, less the lightening channel under the floor (:attr:`Cradle.channel_inset_mm`) and less the room of any station splice's tabs and pads it comes near
-(:func:`swiftfin.cad.hull.splice_keep_outs`, grown by ``print.clearance_assembly_mm``). The component sits ``pad_mm`` above the pocket's floor, the walls
-``print.clearance_sliding_mm`` from its sides. Printed in whichever of the six axis orientations needs least support
-(the export chooses: ``meta["print_candidates"]``).
+hollow), less the pocket from the floor up (open at its fore end), less the lightening channel under the floor
+(:attr:`~swiftfin.layout.cradle_plan.Cradle.channel_inset_mm`) and less the room of any station splice's tabs and
+pads it comes near (:func:`swiftfin.cad.hull.splice_keep_outs`, grown by ``print.clearance_assembly_mm``). The
+component sits ``pad_mm`` above the pocket's floor, the walls ``print.clearance_sliding_mm`` from its sides.
+Printed in whichever of the six axis orientations needs least support (the export chooses:
+``meta["print_candidates"]``; on its aft end).
 """
 from __future__ import annotations
 

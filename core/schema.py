@@ -455,8 +455,8 @@ DEFAULT_COMPONENTS = (
               source=f"{PAPER} Table 2 (9 V, 500 mAh); PP3 Li-ion cell 46 g. Placed low under the motors: ballast"),
     Component(name="electronics", mass_kg=0.030, size_mm=(45.0, 15.0, 30.0), station_fraction=0.077, z_mm=-6.0,
               source="Arduino Nano (7 g) + 4 x A4988 carriers (4 x 3 g) + MPU6050 + wiring, board on edge in the nose, "
-                     "lengthwise and 6 mm low (its cradle needs two perimeters of floor over the narrowing nose under a "
-                     "3 mm pad): the trim lead sits above it (exports/water.py ballast_height)"),
+                     "lengthwise and 6 mm low (its cradle needs two perimeters of floor over the narrowing nose "
+                     "under a 3 mm pad): the trim lead sits above it (exports/water.py ballast_height)"),
 )
 # (the screws, inserts, nuts and pins are no longer a lumped component: each fastener record carries its catalogue
 # mass at its place, exports/line_masses.py fastener_masses)

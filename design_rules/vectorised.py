@@ -1252,13 +1252,12 @@ depth at its station, then that height stepped toward the axis in this many equa
 def _components_placed(p: Params) -> Params:
     """``p`` with each component (the default's, in millimetres) where it fits this hull, as a designer would move
     it: its station moved aft or forward, if need be, into the head's hollow with room for its cradle's ends (the
-    nose cap and the dry compartment's rear wall move with the body), then its height, the default design's scaled by the ratio of the hulls'
-    half-heights at its station or, where that leaves a corner through the wall or no floor for its cradle, the first
-    of that height's steps toward the axis that lies inside with room for its cradle
+    nose cap and the dry compartment's rear wall move with the body), then its height, the default design's scaled
+    by the ratio of the hulls' half-heights at its station or, where that leaves a corner through the wall or no
+    floor for its cradle, the first of that height's steps toward the axis that lies inside with room for its cradle
     (:func:`swiftfin.layout.hull_plan.component_problems` and :func:`swiftfin.layout.cradle_plan.cradles`, the
-    loader's own checks).
-    A component that fits nowhere on that line stays where the scaling put it: the loader then refuses the design,
-    naming the component."""
+    loader's own checks). A component that fits nowhere on that line stays where the scaling put it: the loader then
+    refuses the design, naming the component."""
     import dataclasses
 
     from swiftfin.layout.cradle_plan import end_room_mm

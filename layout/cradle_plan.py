@@ -8,8 +8,9 @@ not an overlap), with a **pocket** on top that takes the component's lower part:
 * along x and y the pocket is the component's footprint plus ``print.clearance_sliding_mm`` a side, walled by
   :data:`WALL_LINES` extrusion lines on three sides (both flanks and the aft end, which the fish's forward
   acceleration pushes the component against; the fore end is open above the floor, so the cradle printed on its aft
-  end has no ceiling: an end wall over the pocket would bridge its whole width, 23.5 mm on the battery's), up to :data:`WALL_HEIGHT_FRACTION` of the component's height above
-  its underside (at most :data:`WALL_HEIGHT_MAX_MM`): the walls locate it, its top stays free for its wires;
+  end has no ceiling: an end wall over the pocket would bridge its whole width, 23.5 mm on the battery's), up to
+  :data:`WALL_HEIGHT_FRACTION` of the component's height above its underside (at most :data:`WALL_HEIGHT_MAX_MM`):
+  the walls locate it, its top stays free for its wires;
 * along z the component sits on a pad of self-adhesive hook-and-loop tape (``catalogues/mounting.toml``), so the
   pocket's floor lies the pad's engaged thickness under the component's underside. The pad holds it down and lets it
   be pulled out (a battery must come out to be charged or swapped).
@@ -156,8 +157,9 @@ def _cradle(p: Params, i: int, c) -> Cradle:
         side = "top" if hangs else "underside"
         raise UserError(f"{key}.z_mm = {c.z_mm:g}: {c.name!r} has its pad's {side} (z = {sign * floor:.2f} mm, "
                         f"{pk.mated_thickness_mm:g} mm of hook-and-loop {'over' if hangs else 'under'} the box) "
-                        + (f"{least:.2f} mm over the hull's inner wall at s = {where[0]:.1f} mm, |y| = {where[1]:.1f} mm"
-                           if math.isfinite(least) else f"where the hull is narrower than the box at s = {where[0]:.1f} mm")
+                        + (f"{least:.2f} mm over the hull's inner wall at s = {where[0]:.1f} mm, "
+                           f"|y| = {where[1]:.1f} mm" if math.isfinite(least)
+                           else f"where the hull is narrower than the box at s = {where[0]:.1f} mm")
                         + f"; its cradle needs {need:.2f} mm of floor there (rules.wall_min_line_widths lines): "
                         + ((f"lower z_mm to at most {c.z_mm - need + least:.2f}" if hangs else
                             f"raise z_mm to at least {c.z_mm + need - least:.2f}") if math.isfinite(least)
