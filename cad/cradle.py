@@ -19,9 +19,10 @@ from swiftfin.cad.kernel import bd
 from swiftfin.cad.hull import splice_keep_outs
 from swiftfin.cad.link import box, isect, one_solid
 from swiftfin.cad.part import PartSpec
-from swiftfin.catalogues.mounting import cradle_bond, pad
+from swiftfin.catalogues.adhesives import adhesive
+from swiftfin.catalogues.mounting import pad
 from swiftfin.core.schema import Params
-from swiftfin.layout.cradle_plan import Cradle, cradles, inner_semi_axes_mm
+from swiftfin.layout.cradle_plan import CRADLE_ADHESIVE, Cradle, cradles, inner_semi_axes_mm
 
 LOFT_STATIONS = 9
 """Sections of the inner-surface loft over the cradle's length (the hull's hollow is lofted through
@@ -65,7 +66,7 @@ def cradle_solid(p: Params, c: Cradle) -> bd.Solid:
 def make_cradles(p: Params) -> list[PartSpec]:
     """``cradle_<component>`` per component (link of the hull under it), bonded into that piece's lower half."""
     out = []
-    pk, bond = pad(), cradle_bond()
+    pk, bond = pad(), adhesive(CRADLE_ADHESIVE)
     for c in cradles(p):
         sx, sy, _ = c.component_size_mm
         out.append(PartSpec(label=c.label, solid=cradle_solid(p, c), link=c.link, family="cradle", meta={

@@ -1,6 +1,5 @@
-"""How the components' cradles hold and are held, read from ``mounting.toml`` beside this module (sources named
-there): ``pad()`` (the hook-and-loop pad a component sits on), ``cradle_bond()`` (the epoxy that bonds a cradle into
-the hull)."""
+"""How a component is held in its cradle, read from ``mounting.toml`` beside this module (sources named there):
+``pad()``, the hook-and-loop pad it sits on. (The cradle's bond into the hull is an adhesive of ``adhesives.toml``.)"""
 from __future__ import annotations
 
 import tomllib
@@ -21,13 +20,6 @@ class Pad:
     source: str
 
 
-@dataclass(frozen=True)
-class Bond:
-    description: str
-    allowable_shear_mpa: float
-    source: str
-
-
 @cache
 def _table() -> dict:
     with open(HERE / "mounting.toml", "rb") as fh:
@@ -39,7 +31,3 @@ def pad() -> Pad:
     return Pad(row["description"], float(row["mated_thickness_mm"]), float(row["areal_mass_g_cm2"]),
                float(row["peel_strength_n_cm"]), row["source"])
 
-
-def cradle_bond() -> Bond:
-    row = _table()["epoxy_pla"]
-    return Bond(row["description"], float(row["allowable_shear_mpa"]), row["source"])

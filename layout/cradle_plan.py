@@ -32,7 +32,7 @@ import functools
 import math
 from dataclasses import dataclass
 
-from swiftfin.catalogues.mounting import cradle_bond, pad
+from swiftfin.catalogues.mounting import pad
 from swiftfin.core.errors import UserError
 from swiftfin.core.schema import Params
 from swiftfin.layout.hull_plan import cavity_range_mm, hull_pieces, hull_section_semi_axes_mm, part_label
@@ -74,18 +74,9 @@ class Cradle:
     channel_inset_mm: float = 0.0   # the lightening channel's walls over the shell and under the floor (0: none)
 
     @property
-    def pad_area_mm2(self) -> float:
-        return self.component_size_mm[0] * self.component_size_mm[1]
-
-    @property
     def footprint_mm2(self) -> float:
         """The underside's projection on the xy plane: the bonded area's lower bound (the shell curves up)."""
         return (self.x_mm[1] - self.x_mm[0]) * 2 * self.half_width_mm
-
-    @property
-    def bond_stress_kpa_per_g(self) -> float:
-        """Mean shear stress on the bond per g of the component's acceleration along the shell [kPa]."""
-        return self.component_mass_kg * 9.81 / self.footprint_mm2 * 1e3
 
 
 def bond_gap_mm(p: Params) -> float:
@@ -118,7 +109,13 @@ def _hollow(p: Params, s0: float, s1: float):
     return [pc for pc, _, _ in under] if reach >= s1 - 1e-9 else None
 
 
-def _cradle(p: Params, i: int, c) -> Cradle:
+CRADLE_ADHESIVE = "epoxy_sanded_pla"
+"""What bonds a cradle into the hull (catalogues/adhesives.toml)."""
+
+
+def cradle_of(p: Params, i: int, c) -> Cradle:
+    """The cradle component ``c`` gets as entry ``i`` of ``p.components``; UserError naming ``components[i]`` and
+    the value that would do when it cannot be made there (a designer may try a place before writing it in)."""
     key = f"components[{i}]"
     sx, sy, sz = c.size_mm
     xc = -c.station_fraction * p.body.length_mm
@@ -132,7 +129,8 @@ def _cradle(p: Params, i: int, c) -> Cradle:
     yi = sy / 2 + clr
     yo = yi + wall
     need = p.rules.wall_min_line_widths * p.print.line_width_mm
-    s0, s1 = -px[1] - need - gap, -px[0] + need + gap          # (end_room_mm beyond the box at each end)
+    room = end_room_mm(p)                                       # clearance, end wall and glue line
+    s0, s1 = -(xc + sx / 2) - room, -(xc - sx / 2) + room
     under = _hollow(p, s0, s1)
     if under is None:
         raise UserError(f"{key}.station_fraction = {c.station_fraction:g}: the cradle of {c.name!r} (s = {s0:.1f}.."
@@ -173,22 +171,11 @@ def _cradle(p: Params, i: int, c) -> Cradle:
 
 def end_room_mm(p: Params) -> float:
     """How far beyond a component's box, at each end along the body, its cradle needs the hollow: the sliding
-    clearance, an end wall of two perimeters and the glue line (:func:`_cradle`'s test)."""
+    clearance, an end wall of two perimeters and the glue line (what :func:`cradle_of` asks of the hollow)."""
     return p.print.clearance_sliding_mm + p.rules.wall_min_line_widths * p.print.line_width_mm + bond_gap_mm(p)
-
-
-def cradle_of(p: Params, i: int, component) -> Cradle:
-    """The cradle ``component`` would get as entry ``i`` of ``p.components`` (UserError naming ``components[i]``
-    when it cannot be made there): for a designer trying a place before writing it in."""
-    return _cradle(p, i, component)
 
 
 @functools.lru_cache(maxsize=32)
 def cradles(p: Params) -> tuple[Cradle, ...]:
     """One cradle per component of ``params.components`` (not the mass placeholders), in their order."""
-    return tuple(_cradle(p, i, c) for i, c in enumerate(p.components) if c.name not in PLACEHOLDERS)
-
-
-def bond() -> str:
-    """What bonds a cradle into the hull (for the bill of materials)."""
-    return cradle_bond().description
+    return tuple(cradle_of(p, i, c) for i, c in enumerate(p.components) if c.name not in PLACEHOLDERS)
