@@ -42,7 +42,8 @@ Interpretation of the parameters:
   from the upper end of the wrapped region, the right one from the lower end. The groove runs ``groove_turns``
   turns centred on the cable plane: wraps, the joint's travel at both ends, the margin and the tensioner's storage.
 * **Anchors and crimp seats.** Each cable end is wound from its leave point toward the cable plane and dives, half
-  a turn before it, into a radial hole at the groove root (half a pitch from the split, on its own half), then
+  a turn before it, into a radial hole at the groove root (half a pitch from the split, on its own half, its axis
+  moved off the split until two layers of print are left between the hole and the split face), then
   leaves its half through an axial hole: the left one up through the upper flange, the right one down through the
   lower flange beside the hub. A crimp sleeve (``swiftfin.catalogues.cable_parts``) on the end bears on the
   flange round the hole: the upper one in a counterbore in the top face, the lower one in a channel down the
@@ -69,7 +70,13 @@ WALL_LINES = 2
 
 ANCHOR_FROM_SPLIT_TURNS = 0.5
 """Groove between a cable's anchor hole and the split plane [turns]: half a turn puts the anchor's radial hole
-half a pitch from the split, on its own half, clear of it by a groove radius."""
+half a pitch from the split, on its own half, clear of it by a groove radius. (Further round, the capstan between
+the anchor and the leave point, 90 deg at rest, would no longer cover joint 4's travel.)"""
+ANCHOR_FLOOR_LAYERS = 2
+"""Layers of the print left between an anchor's radial hole and the split face: where half a pitch leaves less (a
+1.6 mm hole half of a 1.8 mm pitch from the split is 0.1 mm from it: a skin no printer lays), the hole's axis
+moves away from the split by the difference, and the cable bends into it by as much (0.32 mm by default, inside
+the hole's sliding clearance)."""
 
 CRIMP_SEAT_DEPTH_MM = 0.6
 """Depth of the counterbore that centres the upper crimp sleeve on the top face [mm]. Engineering default."""
@@ -107,6 +114,7 @@ class SpoolNumbers:
     anchor_hole_diameter_mm: float
     anchor_radius_mm: float     # radius of the axial part of the anchor holes
     anchor_angles_rad: tuple[float, float]  # (left, right) radial part of the anchor holes (helix angles)
+    anchor_z_mm: tuple[float, float]        # (left, right) heights of the radial holes' axes (spool frame)
     crimp_seat_diameter_mm: float
     crimp_length_mm: float
     bore_radius_mm: float
@@ -271,6 +279,8 @@ def _spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
                             f"leave points, too few to anchor each end half a turn from the split: "
                             f"spool.wraps = {s.wraps:g} must be at least 1.2")
         phi_a = phi_mid + a_off                 # both anchors lie at this angle, a pitch apart
+        z_off = s.groove_pitch_mm * ANCHOR_FROM_SPLIT_TURNS        # the groove's height there, from the split
+        floor = ANCHOR_FLOOR_LAYERS * pr.layer_height_mm + 0.02    # least print between the hole and the face
         # index holes: each ring starts half an upper pitch from the anchors' axial holes; hole 0 of both lines up
         start = phi_a + math.pi / nu
         up = tuple(start + 2 * math.pi * k / nu for k in range(nu))
@@ -294,6 +304,7 @@ def _spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
             groove_start_angle_rad=phi_mid - math.pi * d.groove_turns,
             leave_angles_rad=(phi_l, phi_r), wrap_between_rad=wrap, anchor_hole_diameter_mm=hole_d,
             anchor_radius_mm=anchor_r, anchor_angles_rad=(phi_mid + a_off, phi_mid - a_off),
+            anchor_z_mm=(split + max(z_off, floor + hole_d / 2), split - max(z_off, floor + hole_d / 2)),
             crimp_seat_diameter_mm=seat_d, crimp_length_mm=crimp.length_mm,
             bore_radius_mm=bore_r, flat_distance_mm=flat, shaft_flat_mm=shaft_flat,
             set_screw_angle_rad=_set_screw_angle(phi_a), set_screw_z_mm=(hub_z[0] + hub_z[1]) / 2,
@@ -381,7 +392,7 @@ def _anchor_cutters(n: SpoolNumbers, side: int) -> list[Solid]:
     flange) cable: radial hole at the groove root, axial hole out of its half, crimp seat."""
     r = n.anchor_hole_diameter_mm / 2
     angle = n.anchor_angles_rad[0 if side > 0 else 1]
-    z = n.helix_z_mm(angle)
+    z = n.anchor_z_mm[0 if side > 0 else 1]
     out = [_radial_cyl(r, angle, n.anchor_radius_mm, n.groove_centre_radius_mm + n.groove_radius_mm, z)]
     seat_r = n.crimp_seat_diameter_mm / 2
     if side > 0:

@@ -295,6 +295,15 @@ def test_index_holes_and_crimp_seats_are_open(spools):
             assert (zr - n.split_z_mm) * side > n.groove_radius_mm        # on its own half
             rr = (n.anchor_radius_mm + n.root_radius_mm) / 2
             assert not solid.is_inside(_at(n, rr, angle, zr))
+            # between the radial hole and the split face, two layers of print at least (it was a 0.1 mm skin
+            # when the hole sat on the groove's height half a pitch from the split): probed on the solid, from
+            # the face to where the hole begins
+            floor = 2 * p.print.layer_height_mm
+            heights = [n.split_z_mm + side * k * floor / 8 for k in range(1, 9)]
+            assert all(solid.is_inside(_at(n, rr, angle, z)) for z in heights)
+            hole_edge = n.anchor_z_mm[0 if side > 0 else 1] - side * n.anchor_hole_diameter_mm / 2
+            assert (hole_edge - n.split_z_mm) * side >= floor
+            assert not solid.is_inside(_at(n, rr, angle, hole_edge + side * 0.05))
 
 
 def test_index_screw_record_and_the_crimp_table():
