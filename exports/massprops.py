@@ -53,7 +53,7 @@ from swiftfin.exports.line_masses import (  # noqa: F401
     rod_inertial)
 from swiftfin.exports.water import (  # noqa: F401
     _ballast_part, _fin_outside_volume, _outside_piece, behind_dry_wall, envelope_inertial, envelope_section_mm, envelope_volume_mm3,
-    trim_ballast, ballast_height)
+    trim_ballast, trim_margin_kg, ballast_height)
 from swiftfin.exports.mass_gate import GATE_MESH_REL_TOL, _inside_box, check_tensor, validate  # noqa: F401
 from swiftfin.exports.mass_json import PAPER_MASS_KG, _inertial_dict, report_to_dict  # noqa: F401
 
@@ -233,6 +233,10 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
         cob0 = units.length_m(sum(v * c for v, c in zip(link_V, link_cob)) / sum(link_V))
         dry = combine([pt.inertial for pt in out])
         trim.update(trim_ballast(params, dry.mass_kg, dry.com, V_m3, cob0, flooded))
+        head = [pt.inertial for pt in out if pt.link == 0]
+        if head:                         # what a builder may add to the head, at its centre, and still trim it
+            trim["head_margin_kg"] = trim_margin_kg(params, dry.mass_kg, dry.com, V_m3, cob0, flooded,
+                                                    float(combine(head).com[0]))
         if trim.get("possible"):
             j = int(trim["link"])
             carried = [pt.inertial for pt in out if pt.link == j] + ([water[j]] if water[j] is not None else [])

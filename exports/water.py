@@ -101,6 +101,31 @@ def trim_ballast(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, floo
             "z_room_m": float(units.length_m(z_room_mm))}
 
 
+def trim_margin_kg(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, flooded_links, at_x_m: float) -> float:
+    """How much more mass, added at station ``at_x_m`` (body x, m), the trim can still level: the least added mass
+    for which :func:`trim_ballast` finds no place for its lead (it would leave the hull or the section's room), by
+    bisection to 0.01 g. Every gram added takes a gram of lead away, and added aft of the lead it moves the rest
+    forward (``x = (rho_w V x_cob - M x_com - dm x_add) / (m - dm)`` in a sealed link). 0 when no lead trims the
+    fish as it is; the whole excess buoyancy when no added mass there moves the lead out. The parts inside are not
+    counted (:func:`ballast_height` keeps the lead clear of them): a bound from above."""
+    M, com = float(mass_kg), np.asarray(com_m, float)
+    excess = p.environment.water_density_kg_m3 * float(volume_m3) - M
+
+    def fits(dm: float) -> bool:
+        c = (M * com + dm * np.array([at_x_m, 0.0, 0.0])) / (M + dm)
+        return bool(trim_ballast(p, M + dm, c, volume_m3, cob_m, flooded_links).get("possible"))
+
+    if excess <= 0 or not fits(0.0):
+        return 0.0
+    lo, hi = 0.0, excess * (1 - 1e-9)
+    if fits(hi):
+        return float(excess)
+    while hi - lo > 1e-5:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if fits(mid) else (lo, mid)
+    return float(lo)
+
+
 def _vertical_room_mm(a_mm: float, b_mm: float, clear_mm: float) -> float:
     """How far up (or down) the vertical axis of an elliptic section (half-width a, half-height b) a point can
     sit and stay ``clear_mm`` from the outline (bisection on the distance to the sampled ellipse; on a tall

@@ -431,6 +431,36 @@ def test_the_default_ballast_leaves_its_link_without_yaw_roll_coupling(default_r
         assert pt.solid.distance_to(centre) >= t["sphere_radius_mm"] + p.print.clearance_assembly_mm - 1e-6, pt.label
 
 
+def test_the_trims_margin_is_the_mass_that_pushes_the_lead_out_of_the_hull(default_params):
+    """``trim_margin_kg``: the mass added at a station that the trim can still level. Just under it trim_ballast
+    places its lead, just over it not; the lead it places then sits where the level condition of a sealed link puts
+    it, x = (rho V x_cob - M x_com - dm x_add) / (rho V - M - dm), worked here by hand, not by trim_ballast."""
+    p = default_params
+    rho = p.environment.water_density_kg_m3
+    M, V = 1.82, 1.857e-3
+    com, cob = np.array([-0.1786, 0.0, -0.006]), np.array([-0.1757, 0.0, 0.0])
+    flooded = (False,) + (True,) * p.joints.count
+    x_add = -0.152                                        # the head's centre, roughly
+    margin = mp.trim_margin_kg(p, M, com, V, cob, flooded, x_add)
+    assert 0.0 < margin < rho * V - M
+
+    def trim(dm):
+        c = (M * com + dm * np.array([x_add, 0.0, 0.0])) / (M + dm)
+        return mp.trim_ballast(p, M + dm, c, V, cob, flooded)
+
+    for dm in (0.0, 0.5 * margin, margin - 2e-5):
+        t = trim(dm)
+        assert t["possible"]
+        x = (rho * V * cob[0] - M * com[0] - dm * x_add) / (rho * V - M - dm)
+        assert t["x_m"] == pytest.approx(x, abs=1e-12) and t["mass_kg"] == pytest.approx(rho * V - M - dm, abs=1e-12)
+    assert not trim(margin + 2e-5)["possible"]
+    # mass added at the lead's own station does not move it: the margin there is the whole excess buoyancy
+    x0 = trim(0.0)["x_m"]
+    assert mp.trim_margin_kg(p, M, com, V, cob, flooded, x0) == pytest.approx(rho * V - M)
+    # no lead trims a sinking fish: no margin
+    assert mp.trim_margin_kg(p, 2.0, com, 1.5e-3, cob, flooded, x_add) == 0.0
+
+
 def test_trim_ballast_refuses_a_sinking_fish(default_params):
     t = mp.trim_ballast(default_params, 2.0, (-0.17, 0, 0), 1.5e-3, (-0.17, 0, 0), (False,) * 5)
     assert not t["possible"] and "sinks" in t["reason"]
