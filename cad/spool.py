@@ -77,6 +77,8 @@ ANCHOR_FLOOR_LAYERS = 2
 1.6 mm hole half of a 1.8 mm pitch from the split is 0.1 mm from it: a skin no printer lays), the hole's axis
 moves away from the split by the difference, and the cable bends into it by as much (0.32 mm by default, inside
 the hole's sliding clearance)."""
+ANCHOR_FLOOR_MARGIN_MM = 0.02
+"""Kept over the layers, so the tessellated floor does not read a hair under them."""
 
 CRIMP_SEAT_DEPTH_MM = 0.6
 """Depth of the counterbore that centres the upper crimp sleeve on the top face [mm]. Engineering default."""
@@ -279,8 +281,9 @@ def _spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
                             f"leave points, too few to anchor each end half a turn from the split: "
                             f"spool.wraps = {s.wraps:g} must be at least 1.2")
         phi_a = phi_mid + a_off                 # both anchors lie at this angle, a pitch apart
-        z_off = s.groove_pitch_mm * ANCHOR_FROM_SPLIT_TURNS        # the groove's height there, from the split
-        floor = ANCHOR_FLOOR_LAYERS * pr.layer_height_mm + 0.02    # least print between the hole and the face
+        # the radial holes' axes from the split: the groove's height there, or further out to leave the floor
+        floor = ANCHOR_FLOOR_LAYERS * pr.layer_height_mm + ANCHOR_FLOOR_MARGIN_MM
+        z_a = max(s.groove_pitch_mm * ANCHOR_FROM_SPLIT_TURNS, floor + hole_d / 2)
         # index holes: each ring starts half an upper pitch from the anchors' axial holes; hole 0 of both lines up
         start = phi_a + math.pi / nu
         up = tuple(start + 2 * math.pi * k / nu for k in range(nu))
@@ -304,7 +307,7 @@ def _spool_numbers(p: Params) -> tuple[SpoolNumbers, ...]:
             groove_start_angle_rad=phi_mid - math.pi * d.groove_turns,
             leave_angles_rad=(phi_l, phi_r), wrap_between_rad=wrap, anchor_hole_diameter_mm=hole_d,
             anchor_radius_mm=anchor_r, anchor_angles_rad=(phi_mid + a_off, phi_mid - a_off),
-            anchor_z_mm=(split + max(z_off, floor + hole_d / 2), split - max(z_off, floor + hole_d / 2)),
+            anchor_z_mm=(split + z_a, split - z_a),
             crimp_seat_diameter_mm=seat_d, crimp_length_mm=crimp.length_mm,
             bore_radius_mm=bore_r, flat_distance_mm=flat, shaft_flat_mm=shaft_flat,
             set_screw_angle_rad=_set_screw_angle(phi_a), set_screw_z_mm=(hub_z[0] + hub_z[1]) / 2,

@@ -199,8 +199,8 @@ def mass_section(p: Params, mp: dict | None, mp_note: str) -> str:
     if trim.get("possible"):
         tiles.append(tile("trim ballast", num(1000 * trim["mass_kg"], ".1f", "g"),
                           f"lead sphere at {trim['station_fraction']:.3f} L, z {1000 * trim['z_m']:.0f} mm"
-                          + (f"; the head takes {1000 * trim['head_margin_kg']:.1f} g more at its centre before "
-                             f"the lead leaves the hull" if "head_margin_kg" in trim else "")))
+                          + (f"; at most {1000 * trim['head_margin_kg']:.1f} g more at the head's centre keeps "
+                             f"the lead inside the hull" if "head_margin_kg" in trim else "")))
     elif trim.get("enabled"):
         tiles.append(tile("trim ballast", "none", esc(trim.get("reason", "")), "warn"))
     out = [mp_note and f'<p class="lead">{esc(mp_note)}</p>' or "", f'<div class="tiles">{"".join(tiles)}</div>']
