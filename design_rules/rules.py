@@ -520,6 +520,37 @@ def built_gland_finding(p: Params, glands) -> Finding:
                                        for g in glands))
 
 
+def built_seam_gasket_findings(p: Params, g) -> list[Finding]:
+    """``seal.seam_gasket_*``: the built seam gasket (``cad.seal.gasket_numbers``, measured on its solid): its
+    compression at the gap's extremes in the sheet's band, its contact stress at the least compression over the
+    water's pressure at the design depth times the safety factor, its sealing ring's narrowest strip and the least
+    web of sponge a hole leaves. Build-time findings, like ``seal.cable_glands_built``."""
+    src = "catalogues/seals.toml [seam_gasket], measured on the built gasket (cad/seal.py)"
+    lo, hi = g.compression_range
+    span = (f"gap {g.gap_mm:.3f} mm (the limiters' length) +/- the limiter's and both printed faces' tolerances: "
+            f"{lo * 100:.1f}-{hi * 100:.1f} % of the sheet")
+    return [
+        at_least("seal.seam_gasket_least_compression", lo, g.band[0], "the seam gasket's least compression: " + src,
+                 detail=span),
+        at_most("seal.seam_gasket_most_compression", hi, g.band[1], "the seam gasket's most compression: " + src,
+                detail=span),
+        at_least("seal.seam_gasket_seating", g.contact_stress_min_kpa, g.safety_factor * g.water_pressure_kpa,
+                 "the seam gasket's contact stress at its least compression over the water's pressure at the design "
+                 "depth times the safety factor: " + src, unit="kPa",
+                 detail=f"{g.water_pressure_kpa:.2f} kPa at {p.environment.design_depth_m:g} m x "
+                        f"{g.safety_factor:g}; {g.screws} seam screws each carry about {g.load_per_screw_n:.0f} N"),
+        at_least("seal.seam_gasket_strip", g.strip_mm, g.min_width_mm,
+                 "the seam gasket's sealing ring, its narrowest strip (the widest disc that travels all round its "
+                 "section) against the sheet's least strip: " + src, unit="mm",
+                 detail=("" if g.narrow_at_mm is None else
+                         f"narrowest at ({g.narrow_at_mm[0]:.1f}, {g.narrow_at_mm[1]:.1f}) mm; ")
+                 + f"{g.area_mm2 / 100:.1f} cm^2 of sponge"),
+        at_least("seal.seam_gasket_web", g.web_mm, g.min_web_mm,
+                 "the least sponge a hole of the seam gasket leaves to an edge: " + src, unit="mm",
+                 detail=f"at {g.web_at}"),
+    ]
+
+
 @dataclass(frozen=True)
 class Rule:
     rule_id: str

@@ -285,6 +285,41 @@ def flooded(p: Params, link: int) -> bool:
     return link >= p.hull.flooded_from_joint
 
 
+SEAM_LAND_HEIGHT_MM = 1.0
+"""How far a seam land stands above (upper half) and below the gasket's gap (lower half) [mm]: five layers. It
+carries the sponge's push, about 0.1 N per mm of seam, as a ledge about 1 mm long, and it prints on the bed with
+the seam face (both halves print cut face down), so it needs no support (engineering default)."""
+SEAM_LAND_MARGIN_MM = 0.25
+"""The seam face is this much wider than the sheet's least strip: a die-cut edge's placement (+/- 0.2 mm)."""
+
+
+def seam_land_mm(p: Params, pc: HullPiece, s_mm: float) -> float:
+    """How far inward from the shell's inner wall a sealed piece's seam face is widened at station ``s_mm`` (both
+    halves, at the seam plane, measured across the body like the wall), so that the gasket's strip, measured square
+    to the skin's line in the plane, is the sheet's least width (catalogues/seals.toml ``min_width_thicknesses``) plus
+    :data:`SEAM_LAND_MARGIN_MM`: where the skin's line runs at slope w'(s) to the axis the strip is w / sqrt(1 + w'^2)
+    wide. 0 when the piece has no gasket or its wall is wide enough."""
+    from swiftfin.catalogues.seals import seam_gasket
+    if seam_gasket_gap_mm(p, pc) <= 0:
+        return 0.0
+    ds = 0.25
+    slope = (hull_section_semi_axes_mm(p, s_mm + ds)[0] - hull_section_semi_axes_mm(p, max(s_mm - ds, 0.0))[0]) / (
+        s_mm + ds - max(s_mm - ds, 0.0))
+    need = (seam_gasket().min_width_mm() + SEAM_LAND_MARGIN_MM) * math.sqrt(1.0 + slope**2)
+    return max(0.0, need - p.hull.wall_thickness_mm)
+
+
+def seam_gasket_gap_mm(p: Params, pc: HullPiece) -> float:
+    """How far below the seam plane the lower half of ``pc`` stops [mm]: the seam gasket's compressed thickness, the
+    length of the compression limiters round the seam screws (catalogues/seals.toml ``[seam_gasket]``), for a sealed
+    piece split into halves; 0 otherwise (the halves meet face to face). The gap spans the piece from its front to
+    its rear end (the dry wall's back face); the clevis lugs behind it keep the seam plane."""
+    from swiftfin.catalogues.seals import seam_gasket
+    if not p.hull.split_halves or flooded(p, pc.link):
+        return 0.0
+    return seam_gasket().limiter_length_mm()
+
+
 # ----------------------------------------------------------------------------------------------- fasteners
 def head_hollow_mm(p: Params) -> tuple[float, float] | None:
     """Stations [s0, s1] of the head's hollow (link 0's pieces: behind the nose cap, ahead of the dry compartment's
