@@ -108,6 +108,21 @@ class SeamGasket:
     def min_width_mm(self) -> float:
         return self.min_width_thicknesses * self.sheet_thickness_mm
 
+    def compression_range(self, gap_mm: float, tolerance_mm: float) -> tuple[float, float]:
+        """The least and most compression over a gap of ``gap_mm`` +/- ``tolerance_mm`` [-]."""
+        return self.compression(gap_mm + tolerance_mm), self.compression(max(gap_mm - tolerance_mm, 0.0))
+
+    def stress_kpa(self, compression: float) -> float:
+        """Contact stress at ``compression`` [kPa]: linear through the table's point at 25 % (a closed-cell foam
+        stiffens beyond its plateau, so this under-states the stress above 25 %: a seating check errs safe)."""
+        return self.stress_at_25pct_kpa * compression / 0.25
+
+
+def seam_gap_tolerance_mm() -> float:
+    """What the seam gasket's gap may be off by: the limiter's cutting tolerance and each of the two printed faces
+    +/- ``limits.print_tolerance_mm`` off flat (the worst case adds them) [mm]."""
+    return compression_limiter().length_tolerance_mm + 2 * seal_limits().print_tolerance_mm
+
 
 @cache
 def seam_gasket() -> SeamGasket:

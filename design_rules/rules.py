@@ -504,6 +504,31 @@ def cable_gland(ctx: RuleContext) -> Finding:
                            f"build checks each gland's own length through the wall")
 
 
+def seam_gasket(ctx: RuleContext) -> Finding:
+    """``seal.seam_gasket``: the head's seam gasket (catalogues/seals.toml ``[seam_gasket]``, cad/seal.py) seated at
+    its least compression: the sheet's contact stress there over the water's pressure at the design depth times the
+    table's safety factor. The gap is the limiter's length (the band's middle) +/- the limiter's and both printed
+    faces' tolerances. The build measures the rest on the gasket's solid (``seal.seam_gasket_*``)."""
+    from swiftfin.catalogues.seals import seam_gap_tolerance_mm
+    from swiftfin.catalogues.seals import seam_gasket as sheet_row
+    p = ctx.p
+    if not p.hull.split_halves:
+        return not_evaluated("seal.seam_gasket", "catalogues/seals.toml [seam_gasket]",
+                             "the hull is not split into halves (hull.split_halves): no seam gasket", unit="kPa")
+    g = sheet_row()
+    lo, hi = g.compression_range(g.limiter_length_mm(), seam_gap_tolerance_mm())
+    env = p.environment
+    pressure_kpa = env.water_density_kg_m3 * env.gravity_m_s2 * env.design_depth_m / 1000.0
+    return at_least("seal.seam_gasket", g.stress_kpa(lo), g.pressure_safety_factor * pressure_kpa,
+                    "the head's seam gasket (catalogues/seals.toml [seam_gasket]): its contact stress at the least "
+                    "compression over the water's pressure at environment.design_depth_m times the safety factor",
+                    unit="kPa",
+                    detail=f"{g.sheet_thickness_mm:g} mm sheet on {g.limiter_length_mm():.3g} mm limiters +/- "
+                           f"{seam_gap_tolerance_mm():.3g} mm: compressed {lo * 100:.1f}-{hi * 100:.1f} % (band "
+                           f"{g.compression_min_fraction * 100:.0f}-{g.compression_max_fraction * 100:.0f} %); "
+                           f"{pressure_kpa:.2f} kPa x {g.pressure_safety_factor:g}. The build measures the gasket")
+
+
 def built_gland_finding(p: Params, glands) -> Finding:
     """``seal.cable_glands_built``: the least rated depth over the built cable glands (each its own packed length
     through the rear wall and its own joint's stroke; ``cad.dry_check.cable_glands``). A build-time finding, like
@@ -583,6 +608,7 @@ RULES: list[Rule] = [
     Rule("heat.motor_mount", "heat", motor_mount_temperature),
     Rule("power.run_time", "power", run_time),
     Rule("seal.cable_gland", "seal", cable_gland),
+    Rule("seal.seam_gasket", "seal", seam_gasket),
     Rule("float.upright", "float", floats_upright),
     Rule("float.net_buoyancy", "float", net_buoyancy),
     Rule("float.level", "float", floats_level),

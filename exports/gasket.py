@@ -11,12 +11,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from swiftfin.cad.part import PartSpec
-from swiftfin.catalogues.seals import compression_limiter, seal_limits, seam_gasket
+from swiftfin.catalogues.seals import seam_gap_tolerance_mm, seam_gasket
 from swiftfin.core.schema import Params
-
-WATER_DENSITY_KG_M3 = 1025.0
-G_M_S2 = 9.81
-
 
 @dataclass(frozen=True)
 class GasketNumbers:
@@ -60,18 +56,14 @@ class GasketNumbers:
 
 
 def compression_range(p: Params, gap_mm: float) -> tuple[float, float]:
-    """The sheet's least and most compression: the limiter's length +/- its cutting tolerance, each printed face
-    +/- the printer's tolerance off flat (the two add in the worst case)."""
-    sheet, lim = seam_gasket(), compression_limiter()
-    t = lim.length_tolerance_mm + 2 * seal_limits().print_tolerance_mm
-    return sheet.compression(gap_mm + t), sheet.compression(max(gap_mm - t, 0.0))
+    """The sheet's least and most compression: the gap +/- :func:`swiftfin.catalogues.seals.seam_gap_tolerance_mm`
+    (the limiter's cutting tolerance, each printed face off flat)."""
+    return seam_gasket().compression_range(gap_mm, seam_gap_tolerance_mm())
 
 
 def sponge_stress_kpa(compression: float) -> float:
-    """Contact stress of the sponge at ``compression`` [kPa]: linear through the catalogue's point at 25 % (a
-    closed-cell foam stiffens beyond its plateau, so this under-states the stress above 25 %: the seating check
-    errs safe; the screws' load from it is a floor, which the check does not need)."""
-    return seam_gasket().stress_at_25pct_kpa * compression / 0.25
+    """Contact stress of the sponge at ``compression`` [kPa] (``SeamGasket.stress_kpa``)."""
+    return seam_gasket().stress_kpa(compression)
 
 
 def section_polygons(solid, z_mm: float) -> list[np.ndarray]:
@@ -165,7 +157,8 @@ def gasket_numbers(p: Params, spec: PartSpec) -> GasketNumbers:
     screws = int(spec.meta["screws"])
     depth = p.environment.design_depth_m
     return GasketNumbers(gap, (lo, hi), (sheet.compression_min_fraction, sheet.compression_max_fraction),
-                         sponge_stress_kpa(lo), WATER_DENSITY_KG_M3 * G_M_S2 * depth / 1000.0,
+                         sponge_stress_kpa(lo),
+                         p.environment.water_density_kg_m3 * p.environment.gravity_m_s2 * depth / 1000.0,
                          sheet.pressure_safety_factor, area, sheet.min_width_mm(), closed, where, strip, web, web_at,
                          sheet.min_web_mm, screws, sponge_stress_kpa(hi) * area / 1000.0 / max(screws, 1))
 

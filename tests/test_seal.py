@@ -50,7 +50,7 @@ def test_the_gap_and_the_compression_band_worked_by_hand(default_params):
     assert sheet.limiter_length_mm() == pytest.approx(1.5)
     lo, hi = compression_range(default_params, 1.5)
     assert lo == pytest.approx(0.65 / 2.4) and hi == pytest.approx(1.15 / 2.4)
-    # the contact stress is linear through the catalogue's 27 kPa at 25 %; at 0.5 m of sea water 5.03 kPa
+    # the contact stress is linear through the catalogue's 27 kPa at 25 %
     assert sponge_stress_kpa(0.25) == pytest.approx(27.0) and sponge_stress_kpa(lo) == pytest.approx(27.0 * lo / 0.25)
     # a brass sleeve 3.0 x 2.1 mm, 1.5 mm long: pi/4 (9 - 4.41) 1.5 mm^3 of brass at 8500 kg/m^3
     assert lim.mass_kg(1.5) == pytest.approx(8500 * math.pi / 4 * (9 - 4.41) * 1.5e-9)
@@ -69,6 +69,27 @@ def test_the_strip_measure_recovers_known_widths():
     assert narrowest_strip_mm(necked, 10.0) == pytest.approx(1.2, abs=0.05)
     ok, where = ring_survives_opening(necked, 1.5)
     assert not ok and where is not None and where[0] > 10.0 and abs(where[1]) < 3.0
+
+
+def test_swiftfin_check_seats_the_gasket_from_the_parameters(default_params):
+    """``seal.seam_gasket`` in ``swiftfin check``: 27 kPa x 0.2708 / 0.25 = 29.25 kPa at the least compression,
+    against 2 x 1000 x 9.81 x 0.5 Pa = 9.81 kPa; at 2 m the water needs 39.2 kPa and it fails; a hull not split in
+    halves has no gasket (not evaluated). The vectorised twin agrees (tests/test_vectorised_rules.py)."""
+    import dataclasses
+    from swiftfin.design_rules import RULES, RuleContext, Severity, run_rules
+    rule = [r for r in RULES if r.rule_id == "seal.seam_gasket"]
+    p = default_params
+
+    def finding(q):
+        (f,) = run_rules(RuleContext(q), rule)
+        return f
+    f = finding(p)
+    assert f.severity is Severity.PASS and f.unit == "kPa"
+    assert f.value == pytest.approx(27.0 * (0.65 / 2.4) / 0.25) and f.limit == pytest.approx(9.81)
+    deep = dataclasses.replace(p, environment=dataclasses.replace(p.environment, design_depth_m=2.0))
+    assert finding(deep).severity is Severity.FAIL and finding(deep).limit == pytest.approx(39.24)
+    whole = dataclasses.replace(p, hull=dataclasses.replace(p.hull, split_halves=False))
+    assert finding(whole).severity is Severity.NOT_EVALUATED
 
 
 # ----------------------------------------------------------------------------------------------- on the solids
@@ -111,7 +132,9 @@ def test_the_gasket_numbers_on_the_default_head(default_params, gasket):
     n = gasket_numbers(default_params, gasket)
     assert n.ok, n.problems
     assert n.screws == 14 and len(gasket.meta["holes"]) == 18
-    assert n.water_pressure_kpa == pytest.approx(1025 * 9.81 * 0.5 / 1000)
+    env = default_params.environment
+    assert (env.water_density_kg_m3, env.gravity_m_s2, env.design_depth_m) == (1000.0, 9.81, 0.5)
+    assert n.water_pressure_kpa == pytest.approx(1000 * 9.81 * 0.5 / 1000)
     assert 2.4 <= n.strip_mm < 3.0              # the least strip + the land's 0.25 mm margin, less the tessellation
     assert 1.0 <= n.web_mm < 2.0
     assert n.contact_stress_min_kpa > 2 * n.water_pressure_kpa
