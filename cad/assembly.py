@@ -119,7 +119,7 @@ class Contact:
 CONTACTS: tuple[Contact, ...] = (
     Contact(r"hull_.+", r"hull_.+", "pieces of one hull segment (upper/lower halves, front/rear lengths) are "
             "screwed together face to face", link_delta=0),
-    Contact(r"seam_gasket", r"hull_.+", "the seam gasket lies compressed between the sealed pieces' upper and "
+    Contact(r"seam_gasket(_\d+)?", r"hull_.+", "the seam gasket lies compressed between the sealed pieces' upper and "
             "lower halves, on the limiters round the seam screws (cad/seal.py)", link_delta=0),
     Contact(r"joint_link_\d+", r"hull_.+", "a joint link is bolted to the front bulkhead of its own (child) "
             "segment (cad/link.py)", link_delta=0),

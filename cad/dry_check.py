@@ -62,13 +62,13 @@ def sealed_pieces(p: Params):
 def sealed_part_labels(p: Params) -> tuple[str, ...]:
     """The parts whose union is the dry compartment's wall: the sealed pieces' halves (or whole pieces), and the
     seam gasket between the halves when they have one (:mod:`swiftfin.cad.seal`)."""
-    from swiftfin.cad.seal import GASKET_LABEL
+    from swiftfin.cad.seal import gasket_label
     from swiftfin.layout.hull_plan import seam_gasket_gap_mm
     out = []
     for pc in sealed_pieces(p):
         out += [f"{pc.name}_upper", f"{pc.name}_lower"] if p.hull.split_halves else [pc.name]
-    if any(seam_gasket_gap_mm(p, pc) > 0 for pc in sealed_pieces(p)):
-        out.append(GASKET_LABEL)
+    out += [gasket_label(link) for link in sorted({pc.link for pc in sealed_pieces(p)
+                                                   if seam_gasket_gap_mm(p, pc) > 0})]
     return tuple(out)
 
 

@@ -262,7 +262,7 @@ GLUED: tuple[Glued, ...] = (
     Glued(r"cradle_(?P<c>.+)", r"(?P<c>.+)", 0.0,
           "a component is held in its cradle's pocket by a self-adhesive hook-and-loop pad under it "
           "(catalogues/mounting.toml): it pulls out to be charged or swapped", how="pad"),
-    Glued(r"seam_gasket", r"hull_.+", 0.0,
+    Glued(r"seam_gasket(_\d+)?", r"hull_.+", 0.0,
           "the seam gasket is clamped between the sealed pieces' halves by the seam screws, which pass through its "
           "holes and the compression limiters in them (cad/seal.py)", how="clamped"),
     Glued(r"spool_(?P<j>\d+)_upper", r"motor_(?P<j>\d+)", 0.0,

@@ -454,6 +454,6 @@ def make_hull_segments(p: Params) -> list[PartSpec]:
         out += parts
         if slab is not None:
             slabs.append((pc, slab))
-    if slabs:
-        out.append(seam_gasket_part(p, slabs))
+    for link in sorted({pc.link for pc, _ in slabs}):       # one gasket per sealed link (the joints move)
+        out.append(seam_gasket_part(p, [(pc, sl) for pc, sl in slabs if pc.link == link]))
     return out

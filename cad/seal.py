@@ -37,6 +37,12 @@ from swiftfin.core.schema import Params
 from swiftfin.layout.hull_plan import HullPiece, seam_features, seam_gasket_gap_mm
 
 GASKET_LABEL = "seam_gasket"
+"""The head's (link 0's) gasket; a sealed link behind it (``hull.flooded_from_joint`` > 1) has its own,
+``seam_gasket_<link>`` (:func:`gasket_label`)."""
+
+
+def gasket_label(link: int) -> str:
+    return GASKET_LABEL if link == 0 else f"{GASKET_LABEL}_{link}"
 HOLE_DIAMETRAL_CLEARANCE_MM = 0.4
 """A die-cut hole round a limiter is this much wider than it, so the limiter stands free and no sponge is trapped
 under it: a steel-rule die places a hole in soft sponge to about +/- 0.2 mm (engineering default). A dowel's hole is
@@ -65,8 +71,8 @@ def seam_face_area_mm2(solid) -> float:
 
 
 def seam_gasket_part(p: Params, slabs: list[tuple[HullPiece, bd.Shape]]) -> PartSpec:
-    """The seam gasket of the sealed pieces (see the module docstring): ``slabs`` are (piece, the slab of its solid
-    between the gap's faces)."""
+    """The seam gasket of one sealed link's pieces (see the module docstring): ``slabs`` are (piece, the slab of its
+    solid between the gap's faces)."""
     pieces = [pc for pc, _ in slabs]
     gap = max(seam_gasket_gap_mm(p, pc) for pc in pieces)
     body = slabs[0][1]
@@ -74,20 +80,21 @@ def seam_gasket_part(p: Params, slabs: list[tuple[HullPiece, bd.Shape]]) -> Part
         body = body.fuse(*[s for _, s in slabs[1:]]).clean()
     holes = gasket_holes(p, pieces)
     body = body.cut(*[rod((x, y, -gap - 1.0), (0, 0, 1), r, gap + 2.0) for _, x, y, r in holes])
-    solid = one_solid(body, GASKET_LABEL)
+    label = gasket_label(min(pc.link for pc in pieces))
+    solid = one_solid(body, label)
     sheet, lim = seam_gasket(), compression_limiter()
     n_screws = sum(1 for f in (f for pc in pieces for f in seam_features(p, pc)) if f.kind == "screw")
     area_mm2 = seam_face_area_mm2(solid)
     sponge_kg = sheet.density_kg_m3 * area_mm2 * sheet.sheet_thickness_mm * 1e-9
     limiters_kg = n_screws * lim.mass_kg(gap)
-    return PartSpec(GASKET_LABEL, solid, min(pc.link for pc in pieces), "seal", printed=False,
+    return PartSpec(label, solid, min(pc.link for pc in pieces), "seal", printed=False,
                     mass_kg=sponge_kg + limiters_kg, meta={
                         "source": "catalogues/seals.toml [seam_gasket] density x the sheet's volume, and "
                                   "[compression_limiter] x the seam screws",
                         "gap_mm": gap, "area_mm2": area_mm2, "sponge_kg": sponge_kg, "limiters_kg": limiters_kg,
                         "pieces": tuple(pc.name for pc in pieces), "screws": n_screws, "holes": tuple(holes),
                         "bom_item": "Seam gasket, die-cut",
-                        "bom_spec": (f"{sheet.sheet} cut to parts/seam_gasket.svg ({area_mm2 / 100:.1f} cm^2, "
+                        "bom_spec": (f"{sheet.sheet} cut to parts/{label}.svg ({area_mm2 / 100:.1f} cm^2, "
                                      f"{sponge_kg * 1000:.2f} g), {len(holes)} holes"),
                         "bom": [{"item": "Compression limiter",
                                  "spec": f"{lim.tube}, cut {gap:.2f} +/- {lim.length_tolerance_mm:g} mm",

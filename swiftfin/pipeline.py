@@ -728,9 +728,8 @@ def dry_wall_summary(p: Params, dr) -> str:
         glands = (f"{len(dr.glands)} cable glands (the least rated to {rated:.2f} m, "
                   f"{'BELOW' if rated < depth else 'over'} the design depth {depth:g} m: {worst.label}, "
                   f"{worst.packed_mm:.1f} mm packed, stroke {worst.stroke_mm:.1f} mm)")
-    from swiftfin.cad.seal import GASKET_LABEL
-    seams = ("the head's halves on the seam gasket (cad/seal.py), its pieces' splice bonded with epoxy"
-             if GASKET_LABEL in sealed_part_labels(p) else
+    seams = ("the sealed pieces' halves on the seam gasket (cad/seal.py), their splices bonded with epoxy"
+             if any(lb.startswith("seam_gasket") for lb in sealed_part_labels(p)) else
              "NOT sealed: the parting seams between the sealed pieces' halves (a build without the seam gasket)")
     return (f"dry wall closed: {len(dr.openings)} openings through it, each a declared sealed crossing: {glands}, "
             f"{len(dr.screws)} screws bedded in sealant; seams: {seams}")
@@ -777,11 +776,13 @@ def report_findings(params: Params, parts, mass_properties: dict | None, calibra
     findings = design_findings(params, mass_properties, boxes, calibration)
     if dry_report is not None:
         findings = [*findings, built_gland_finding(params, dry_report.glands)]
-    gasket = next((x.spec for x in parts or () if hasattr(x, "spec") and x.spec.family == "seal"), None)
-    if gasket is not None:
+    gaskets = [x.spec for x in parts or () if hasattr(x, "spec") and x.spec.family == "seal"]
+    if gaskets:
         from swiftfin.exports.gasket import gasket_numbers
         from swiftfin.design_rules.rules import built_seam_gasket_findings
-        findings = [*findings, *built_seam_gasket_findings(params, gasket_numbers(params, gasket))]
+        per = [built_seam_gasket_findings(params, gasket_numbers(params, g)) for g in gaskets]
+        # one finding per rule: the gasket with the least margin (the head's alone on the default design)
+        findings = [*findings, *(min(fs, key=lambda f: f.margin) for fs in zip(*per))]
     return findings, list(audit_entries())
 
 

@@ -190,3 +190,16 @@ def test_the_bill_lists_the_gasket_its_limiters_and_the_splice_epoxy(default_par
     (lim,) = by_item["Compression limiter"]
     assert lim.quantity == 14 and "cut 1.50" in lim.spec
     assert any("splice" in ln.where for ln in by_item["Adhesive"])
+
+
+def test_each_sealed_link_has_its_own_gasket(default_params):
+    """A joint moves, so a hull sealed behind joint 1 (``hull.flooded_from_joint = 2``) has a gasket per sealed link
+    in its dry wall; a hull not split in halves has none (its pieces print whole)."""
+    import dataclasses
+    from swiftfin.cad.dry_check import sealed_part_labels
+    p = default_params
+    assert [lb for lb in sealed_part_labels(p) if lb.startswith("seam_gasket")] == ["seam_gasket"]
+    two = dataclasses.replace(p, hull=dataclasses.replace(p.hull, flooded_from_joint=2))
+    assert [lb for lb in sealed_part_labels(two) if lb.startswith("seam_gasket")] == ["seam_gasket", "seam_gasket_1"]
+    whole = dataclasses.replace(p, hull=dataclasses.replace(p.hull, split_halves=False))
+    assert not [lb for lb in sealed_part_labels(whole) if lb.startswith("seam_gasket")]
