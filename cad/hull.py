@@ -420,8 +420,8 @@ def _piece_split(p: Params, pc: HullPiece):
     lower = isect(solid, box(x0, x1, -big, big, -big, 0.0))
     gap = seam_gasket_gap_mm(p, pc)
     slab = None
-    if gap > 0:
-        gasket_box = box(-pc.s_end_mm, x1, -big, big, -gap, 0.0)
+    if gap > 0:            # to the rear end, or over the splice tabs behind it (no clevis there to keep the plane)
+        gasket_box = box(-pc.s_end_mm if pc.rear_joint is not None else x0, x1, -big, big, -gap, 0.0)
         slab = isect(solid, gasket_box)
         lower = lower.cut(gasket_box)
     lo = one_solid(lower, f"{pc.name}_lower")
