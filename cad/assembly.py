@@ -119,6 +119,8 @@ class Contact:
 CONTACTS: tuple[Contact, ...] = (
     Contact(r"hull_.+", r"hull_.+", "pieces of one hull segment (upper/lower halves, front/rear lengths) are "
             "screwed together face to face", link_delta=0),
+    Contact(r"seam_gasket(_\d+)?", r"hull_.+", "the seam gasket lies compressed between the sealed pieces' upper and "
+            "lower halves, on the limiters round the seam screws (cad/seal.py)", link_delta=0),
     Contact(r"joint_link_\d+", r"hull_.+", "a joint link is bolted to the front bulkhead of its own (child) "
             "segment (cad/link.py)", link_delta=0),
     Contact(r"joint_link_\d+", r"hull_.+", "a joint link turns in the clevis of the segment ahead: lugs and "
@@ -440,7 +442,8 @@ def _product(grids):
     return list(itertools.product(*grids))
 
 
-INTERNAL_EXCLUDED_FAMILIES = ("hull", "fin")
+INTERNAL_EXCLUDED_FAMILIES = ("hull", "fin", "seal")
+"""Families that are the hull's skin or stand out of it (the seam gasket lies in the wall, between the halves)."""
 
 
 _SOURCE_DIGEST = hashlib.sha256(Path(__file__).read_bytes()).digest()

@@ -69,6 +69,8 @@ REMOVAL: tuple[tuple[str, tuple[str, ...], str], ...] = (
     (r"caudal_fin", ("-x",), "Slide the caudal fin's tang into the peduncle's slot and drive its root screws"),
     (r"hull_head_.+_upper", ("+z",), "Close the head with its upper halves; drive the wall screws into the "
      "motor mounts from outside"),
+    (r"seam_gasket(_\d+)?", ("+z",), "Lay the seam gasket on the head's lower halves, a compression limiter in each of "
+     "its holes round the seam screws (cad/seal.py)"),
     (r"battery|electronics", ("+z", "+y", "-y"), "Seat the battery and the electronics"),
     (r"guide_.+", ("+z", "+y", "-y"), "Screw the PTFE guides onto their posts"),
     (r"spool_\d+_upper", ("+z",), "Set the split spools' upper halves and lock them with the index screws"),

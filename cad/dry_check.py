@@ -13,7 +13,10 @@ and the cavity's air there (the largest piece of the cavity, grown into that ski
 material behind the wall: a screw's counterbore that ends in a column is not an opening.
 
 Seams (the faces where two sealed pieces meet) are not cuts: :func:`seams` lists the pairs of sealed hull parts
-that touch, each of which needs a seal of its own.
+that touch, each of which needs a seal of its own. On a hull split into halves the sealed pieces' lower halves stop
+the seam gasket's gap below the seam plane (:mod:`swiftfin.cad.seal`), so the halves meet only through the gasket,
+which is one of the wall's parts here (:func:`sealed_part_labels`): without it the gap is an opening all round the
+head and the build is refused. The splice between the head's pieces is bonded (``bonded_seam``).
 """
 from __future__ import annotations
 
@@ -57,9 +60,15 @@ def sealed_pieces(p: Params):
 
 
 def sealed_part_labels(p: Params) -> tuple[str, ...]:
+    """The parts whose union is the dry compartment's wall: the sealed pieces' halves (or whole pieces), and the
+    seam gasket between the halves when they have one (:mod:`swiftfin.cad.seal`)."""
+    from swiftfin.cad.seal import gasket_label
+    from swiftfin.layout.hull_plan import seam_gasket_gap_mm
     out = []
     for pc in sealed_pieces(p):
         out += [f"{pc.name}_upper", f"{pc.name}_lower"] if p.hull.split_halves else [pc.name]
+    out += [gasket_label(link) for link in sorted({pc.link for pc in sealed_pieces(p)
+                                                   if seam_gasket_gap_mm(p, pc) > 0})]
     return tuple(out)
 
 

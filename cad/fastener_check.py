@@ -243,7 +243,7 @@ class Glued:
     b: str                 # must capture the same text in both)
     area_mm2: float
     reason: str
-    how: str = "glued"     # "glued" | "pad" | "bearing"
+    how: str = "glued"     # "glued" | "pad" | "bearing" | "clamped"
 
     def matches(self, la: str, lb: str) -> bool:
         from swiftfin.cad.assembly import Contact
@@ -262,6 +262,9 @@ GLUED: tuple[Glued, ...] = (
     Glued(r"cradle_(?P<c>.+)", r"(?P<c>.+)", 0.0,
           "a component is held in its cradle's pocket by a self-adhesive hook-and-loop pad under it "
           "(catalogues/mounting.toml): it pulls out to be charged or swapped", how="pad"),
+    Glued(r"seam_gasket(_\d+)?", r"hull_.+", 0.0,
+          "the seam gasket is clamped between the sealed pieces' halves by the seam screws, which pass through its "
+          "holes and the compression limiters in them (cad/seal.py)", how="clamped"),
     Glued(r"spool_(?P<j>\d+)_upper", r"motor_(?P<j>\d+)", 0.0,
           "the split spool's upper half turns on its motor's shaft (a bearing fit, sliding clearance): it is held "
           "to the lower half, which the set screw fixes on the shaft, by the index screw", how="bearing"),
@@ -295,7 +298,7 @@ def _meet_on_an_edge(p: Params, pieces: set[str], la: str, lb: str) -> bool:
 def mating_pairs(p: Params, placed, fasteners, glued=GLUED) -> list[tuple[str, str, str, str]]:
     """Every pair of the contact table (cad/assembly.py) that touches at rest (gap <= print.clearance_sliding_mm):
     (a, b, how it is joined, the table's reason it touches). How: ``"fastener"`` (a record joins both),
-    ``"glued"``/``"pad"``/``"bearing"`` (declared in ``glued``), ``"edge"`` (two hull halves that meet on a line
+    ``"glued"``/``"pad"``/``"bearing"``/``"clamped"`` (declared in ``glued``), ``"edge"`` (two hull halves that meet on a line
     only) or ``""`` (nothing: a fault)."""
     from swiftfin.cad.assembly import contact_reason
     from swiftfin.layout.hull_plan import hull_pieces

@@ -64,7 +64,8 @@ from swiftfin.core.schema import Params
 
 from swiftfin.layout.hull_plan import (  # noqa: F401  the numbers, re-exported for the part family
     SPLICE_LENGTH_MM, HullPiece, cavity_range_mm, dry_bulkhead, NoseCap, SeamFeature, SpliceJoint, bed_rotation_deg, flooded, hull_fasteners,
-    hull_pieces, hull_section_semi_axes_mm, nose_cap, printed_size_mm, seam_features, splice_joint)
+    hull_pieces, hull_section_semi_axes_mm, nose_cap, printed_size_mm, seam_features, seam_gasket_gap_mm,
+    seam_land_mm, SEAM_LAND_HEIGHT_MM, splice_joint)
 
 
 # ----------------------------------------------------------------------------------------------- solids
@@ -329,6 +330,28 @@ def _seam_bosses(p: Params, pc: HullPiece, outer: bd.Solid) -> list[bd.Shape]:
     return out
 
 
+SEAM_LAND_STATIONS = 40
+"""Sections of the seam land's inner loft (its width follows the skin's slope, which changes fast near the nose)."""
+
+
+def _seam_land(p: Params, pc: HullPiece, c0: float, c1: float) -> list[bd.Solid]:
+    """The seam face widened inward for the gasket (:func:`swiftfin.layout.hull_plan.seam_land_mm`): a band along the
+    cavity's wall, from the gap's lower face less :data:`SEAM_LAND_HEIGHT_MM` to that height above the seam plane."""
+    if seam_gasket_gap_mm(p, pc) <= 0:
+        return []
+    w = p.hull.wall_thickness_mm
+    wires = []
+    for s in np.linspace(c0, c1, SEAM_LAND_STATIONS):
+        a, b = hull_section_semi_axes_mm(p, float(s))
+        shrink = w + seam_land_mm(p, pc, float(s))
+        wires.append(_ellipse_wire(float(s), a - shrink, b - shrink))
+    band = _loft(p, c0, c1, shrink=w).cut(bd.Solid.make_loft(wires))
+    a, b = pc.max_semi_axes_mm(p)
+    big = 2 * max(a, b) + 10
+    h = SEAM_LAND_HEIGHT_MM
+    return [isect(band, box(-c1 - 1, -c0 + 1, -big, big, -seam_gasket_gap_mm(p, pc) - h, h))]
+
+
 def _d_column(x: float, y: float, side: int, r: float, reach: float, depth: float) -> bd.Solid:
     """A column down from z = 0: round (radius ``r`` about (x, y)) on the side away from ``side`` (+-y), straight
     out ``reach`` toward it, ``depth`` deep. One extruded face, so no tangent faces meet in a boolean."""
@@ -370,7 +393,7 @@ def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
     if pc.front_cut:
         front = next(q for q in hull_pieces(p) if q.rear_cut and abs(q.s_end_mm - pc.s_start_mm) < 1e-9)
         adds += _splice_pads(p, pc, front)
-    adds += _seam_bosses(p, pc, outer) + _fixing_pads(p, pc)
+    adds += _seam_bosses(p, pc, outer) + _fixing_pads(p, pc) + _seam_land(p, pc, c0, c1)
     if adds:
         body = body.fuse(*adds).clean()
     cuts += _cable_holes(p, pc) + _vent_holes(p, pc)
@@ -381,29 +404,56 @@ def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
     return one_solid(body, pc.name)
 
 
-def piece_parts(p: Params, pc: HullPiece) -> list[PartSpec]:
-    """The printed part(s) of one piece: its two halves, or the whole piece (see :func:`make_hull_segments`)."""
+def _piece_split(p: Params, pc: HullPiece):
+    """(printed parts of the piece, its seam gasket's slab or None): the two halves, or the whole piece (see
+    :func:`make_hull_segments`). A sealed piece's lower half stops :func:`seam_gasket_gap_mm` below the seam plane
+    from its front to its rear end (the dry wall's back face); that slab of the piece is where the gasket lies."""
     solid = piece_solid(p, pc)
     meta = {"s_start_mm": pc.s_start_mm, "s_end_mm": pc.s_end_mm, "segment_of_link": pc.link}
     rz = bed_rotation_deg(p, printed_size_mm(p, pc)) or 0.0
     if not p.hull.split_halves:
-        return [PartSpec(pc.name, solid, pc.link, "hull", print_rotation=(0.0, -90.0, rz), meta=meta)]
+        return [PartSpec(pc.name, solid, pc.link, "hull", print_rotation=(0.0, -90.0, rz), meta=meta)], None
     a, b = pc.max_semi_axes_mm(p)
     big = 4 * max(a, b) + 100
     x0, x1 = -pc.s_end_mm - 50, -pc.s_start_mm + 50
     up = one_solid(isect(solid, box(x0, x1, -big, big, 0.0, big)), f"{pc.name}_upper")
-    lo = one_solid(isect(solid, box(x0, x1, -big, big, -big, 0.0)), f"{pc.name}_lower")
-    return [PartSpec(f"{pc.name}_upper", up, pc.link, "hull", print_rotation=(0.0, 0.0, rz),
-                     meta=dict(meta, half="upper")),
-            PartSpec(f"{pc.name}_lower", lo, pc.link, "hull", print_rotation=(180.0, 0.0, rz),
-                     meta=dict(meta, half="lower"))]
+    lower = isect(solid, box(x0, x1, -big, big, -big, 0.0))
+    gap = seam_gasket_gap_mm(p, pc)
+    slab = None
+    if gap > 0:            # to the rear end, or over the splice tabs behind it (no clevis there to keep the plane)
+        gasket_box = box(-pc.s_end_mm if pc.rear_joint is not None else x0, x1, -big, big, -gap, 0.0)
+        slab = isect(solid, gasket_box)
+        lower = lower.cut(gasket_box)
+    lo = one_solid(lower, f"{pc.name}_lower")
+    parts = [PartSpec(f"{pc.name}_upper", up, pc.link, "hull", print_rotation=(0.0, 0.0, rz),
+                      meta=dict(meta, half="upper")),
+             PartSpec(f"{pc.name}_lower", lo, pc.link, "hull", print_rotation=(180.0, 0.0, rz),
+                      meta=dict(meta, half="lower", seam_gap_mm=gap))]
+    return parts, slab
+
+
+def piece_parts(p: Params, pc: HullPiece) -> list[PartSpec]:
+    """The printed part(s) of one piece: its two halves, or the whole piece (see :func:`make_hull_segments`)."""
+    return _piece_split(p, pc)[0]
 
 
 def make_hull_segments(p: Params) -> list[PartSpec]:
-    """Every printed hull part, in the body frame at rest (mm), nose to tail.
+    """Every printed hull part, in the body frame at rest (mm), nose to tail, then the sealed pieces' seam gasket.
 
     With ``hull.split_halves`` each piece gives ``<name>_upper`` (printed as it lies, cut face down) and
     ``<name>_lower`` (rotated 180 deg about x, cut face down); otherwise the whole piece, printed standing on
     its rear end (ry = -90 deg). A rotation about the vertical that makes it fit the bed is ``print_rotation[2]``.
+    The sealed pieces' lower halves stop the gasket's gap below the seam plane, and the gasket (bought, cut from
+    sheet: :func:`swiftfin.cad.seal.seam_gasket_part`) fills it: it is made here because it is the slab of the
+    hull's own solid, with nothing re-built.
     """
-    return [ps for pc in hull_pieces(p) for ps in piece_parts(p, pc)]
+    from swiftfin.cad.seal import seam_gasket_part
+    out, slabs = [], []
+    for pc in hull_pieces(p):
+        parts, slab = _piece_split(p, pc)
+        out += parts
+        if slab is not None:
+            slabs.append((pc, slab))
+    for link in sorted({pc.link for pc, _ in slabs}):       # one gasket per sealed link (the joints move)
+        out.append(seam_gasket_part(p, [(pc, sl) for pc, sl in slabs if pc.link == link]))
+    return out

@@ -84,6 +84,73 @@ def face_gland(cord_mm: float) -> FaceGland:
 
 
 @dataclass(frozen=True)
+class SeamGasket:
+    """The seam gasket's sheet (``[seam_gasket]``): thickness, compression band, stiffness, density."""
+    sheet_thickness_mm: float
+    compression_min_fraction: float
+    compression_max_fraction: float
+    stress_at_25pct_kpa: float
+    density_kg_m3: float
+    min_width_thicknesses: float
+    min_web_mm: float
+    pressure_safety_factor: float
+    sheet: str
+
+    def limiter_length_mm(self) -> float:
+        """The limiter that stops the faces at the middle of the compression band [mm]."""
+        mid = 0.5 * (self.compression_min_fraction + self.compression_max_fraction)
+        return self.sheet_thickness_mm * (1.0 - mid)
+
+    def compression(self, gap_mm: float) -> float:
+        """(free thickness - gap) / free thickness [-]."""
+        return (self.sheet_thickness_mm - gap_mm) / self.sheet_thickness_mm
+
+    def min_width_mm(self) -> float:
+        return self.min_width_thicknesses * self.sheet_thickness_mm
+
+    def compression_range(self, gap_mm: float, tolerance_mm: float) -> tuple[float, float]:
+        """The least and most compression over a gap of ``gap_mm`` +/- ``tolerance_mm`` [-]."""
+        return self.compression(gap_mm + tolerance_mm), self.compression(max(gap_mm - tolerance_mm, 0.0))
+
+    def stress_kpa(self, compression: float) -> float:
+        """Contact stress at ``compression`` [kPa]: linear through the table's point at 25 % (a closed-cell foam
+        stiffens beyond its plateau, so this under-states the stress above 25 %: a seating check errs safe)."""
+        return self.stress_at_25pct_kpa * compression / 0.25
+
+
+def seam_gap_tolerance_mm() -> float:
+    """What the seam gasket's gap may be off by: the limiter's cutting tolerance and each of the two printed faces
+    +/- ``limits.print_tolerance_mm`` off flat (the worst case adds them) [mm]."""
+    return compression_limiter().length_tolerance_mm + 2 * seal_limits().print_tolerance_mm
+
+
+@cache
+def seam_gasket() -> SeamGasket:
+    row = _table()["seam_gasket"]
+    return SeamGasket(**{k: (v if isinstance(v, str) else float(v)) for k, v in row.items()})
+
+
+@dataclass(frozen=True)
+class CompressionLimiter:
+    """The brass sleeve round each seam screw that sets the gasket's gap (``[compression_limiter]``)."""
+    outer_diameter_mm: float
+    inner_diameter_mm: float
+    length_tolerance_mm: float
+    density_kg_m3: float
+    tube: str
+
+    def mass_kg(self, length_mm: float) -> float:
+        area = math.pi / 4 * (self.outer_diameter_mm**2 - self.inner_diameter_mm**2)
+        return self.density_kg_m3 * area * length_mm * 1e-9
+
+
+@cache
+def compression_limiter() -> CompressionLimiter:
+    row = _table()["compression_limiter"]
+    return CompressionLimiter(**{k: (v if isinstance(v, str) else float(v)) for k, v in row.items()})
+
+
+@dataclass(frozen=True)
 class CableGland:
     """The grease-packed cable gland of ``seals.toml`` (``[cable_gland]``)."""
     grease_yield_stress_pa: float

@@ -504,6 +504,31 @@ def cable_gland(ctx: RuleContext) -> Finding:
                            f"build checks each gland's own length through the wall")
 
 
+def seam_gasket(ctx: RuleContext) -> Finding:
+    """``seal.seam_gasket``: the head's seam gasket (catalogues/seals.toml ``[seam_gasket]``, cad/seal.py) seated at
+    its least compression: the sheet's contact stress there over the water's pressure at the design depth times the
+    table's safety factor. The gap is the limiter's length (the band's middle) +/- the limiter's and both printed
+    faces' tolerances. The build measures the rest on the gasket's solid (``seal.seam_gasket_*``)."""
+    from swiftfin.catalogues.seals import seam_gap_tolerance_mm
+    from swiftfin.catalogues.seals import seam_gasket as sheet_row
+    p = ctx.p
+    if not p.hull.split_halves:
+        return not_evaluated("seal.seam_gasket", "catalogues/seals.toml [seam_gasket]",
+                             "the hull is not split into halves (hull.split_halves): no seam gasket", unit="kPa")
+    g = sheet_row()
+    lo, hi = g.compression_range(g.limiter_length_mm(), seam_gap_tolerance_mm())
+    env = p.environment
+    pressure_kpa = env.water_density_kg_m3 * env.gravity_m_s2 * env.design_depth_m / 1000.0
+    return at_least("seal.seam_gasket", g.stress_kpa(lo), g.pressure_safety_factor * pressure_kpa,
+                    "the head's seam gasket (catalogues/seals.toml [seam_gasket]): its contact stress at the least "
+                    "compression over the water's pressure at environment.design_depth_m times the safety factor",
+                    unit="kPa",
+                    detail=f"{g.sheet_thickness_mm:g} mm sheet on {g.limiter_length_mm():.3g} mm limiters +/- "
+                           f"{seam_gap_tolerance_mm():.3g} mm: compressed {lo * 100:.1f}-{hi * 100:.1f} % (band "
+                           f"{g.compression_min_fraction * 100:.0f}-{g.compression_max_fraction * 100:.0f} %); "
+                           f"{pressure_kpa:.2f} kPa x {g.pressure_safety_factor:g}. The build measures the gasket")
+
+
 def built_gland_finding(p: Params, glands) -> Finding:
     """``seal.cable_glands_built``: the least rated depth over the built cable glands (each its own packed length
     through the rear wall and its own joint's stroke; ``cad.dry_check.cable_glands``). A build-time finding, like
@@ -518,6 +543,37 @@ def built_gland_finding(p: Params, glands) -> Finding:
                     detail=f"{worst.label}: {worst.packed_mm:.1f} mm packed, stroke {worst.stroke_mm:.1f} mm; "
                            + ", ".join(f"{g.label} {gland_rating_m(p, g.packed_mm, g.stroke_mm):.2f} m"
                                        for g in glands))
+
+
+def built_seam_gasket_findings(p: Params, g) -> list[Finding]:
+    """``seal.seam_gasket_*``: the built seam gasket (``cad.seal.gasket_numbers``, measured on its solid): its
+    compression at the gap's extremes in the sheet's band, its contact stress at the least compression over the
+    water's pressure at the design depth times the safety factor, its sealing ring's narrowest strip and the least
+    web of sponge a hole leaves. Build-time findings, like ``seal.cable_glands_built``."""
+    src = "catalogues/seals.toml [seam_gasket], measured on the built gasket (cad/seal.py)"
+    lo, hi = g.compression_range
+    span = (f"gap {g.gap_mm:.3f} mm (the limiters' length) +/- the limiter's and both printed faces' tolerances: "
+            f"{lo * 100:.1f}-{hi * 100:.1f} % of the sheet")
+    return [
+        at_least("seal.seam_gasket_least_compression", lo, g.band[0], "the seam gasket's least compression: " + src,
+                 detail=span),
+        at_most("seal.seam_gasket_most_compression", hi, g.band[1], "the seam gasket's most compression: " + src,
+                detail=span),
+        at_least("seal.seam_gasket_seating", g.contact_stress_min_kpa, g.safety_factor * g.water_pressure_kpa,
+                 "the seam gasket's contact stress at its least compression over the water's pressure at the design "
+                 "depth times the safety factor: " + src, unit="kPa",
+                 detail=f"{g.water_pressure_kpa:.2f} kPa at {p.environment.design_depth_m:g} m x "
+                        f"{g.safety_factor:g}; {g.screws} seam screws each carry about {g.load_per_screw_n:.0f} N"),
+        at_least("seal.seam_gasket_strip", g.strip_mm, g.min_width_mm,
+                 "the seam gasket's sealing ring, its narrowest strip (the widest disc that travels all round its "
+                 "section) against the sheet's least strip: " + src, unit="mm",
+                 detail=("" if g.narrow_at_mm is None else
+                         f"narrowest at ({g.narrow_at_mm[0]:.1f}, {g.narrow_at_mm[1]:.1f}) mm; ")
+                 + f"{g.area_mm2 / 100:.1f} cm^2 of sponge"),
+        at_least("seal.seam_gasket_web", g.web_mm, g.min_web_mm,
+                 "the least sponge a hole of the seam gasket leaves to an edge: " + src, unit="mm",
+                 detail=f"at {g.web_at}"),
+    ]
 
 
 @dataclass(frozen=True)
@@ -552,6 +608,7 @@ RULES: list[Rule] = [
     Rule("heat.motor_mount", "heat", motor_mount_temperature),
     Rule("power.run_time", "power", run_time),
     Rule("seal.cable_gland", "seal", cable_gland),
+    Rule("seal.seam_gasket", "seal", seam_gasket),
     Rule("float.upright", "float", floats_upright),
     Rule("float.net_buoyancy", "float", net_buoyancy),
     Rule("float.level", "float", floats_level),

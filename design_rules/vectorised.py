@@ -55,7 +55,7 @@ from functools import cache
 import numpy as np
 
 from swiftfin.catalogues.materials import material
-from swiftfin.catalogues.seals import cable_gland
+from swiftfin.catalogues.seals import cable_gland, seam_gap_tolerance_mm, seam_gasket
 from swiftfin.core.schema import SECTIONS, Params
 from swiftfin.design_rules.findings import Severity
 from swiftfin.design_rules.rules import (MIN_GUIDE_BEND_RAD, MOTOR_CASE_AREA_FACES, RULES, MassProperties,
@@ -1135,6 +1135,13 @@ def _evaluate_group(cols: dict, n: int, mass: MassPropertyArrays | None, work: d
     rated = hold / (gland.pressure_safety_factor * c("environment.water_density_kg_m3")
                     * c("environment.gravity_m_s2"))
     out.at_least("seal.cable_gland", rated, c("environment.design_depth_m"))
+    sheet = seam_gasket()
+    least = sheet.compression_range(sheet.limiter_length_mm(), seam_gap_tolerance_mm())[0]
+    pressure_kpa = c("environment.water_density_kg_m3") * c("environment.gravity_m_s2") * c(
+        "environment.design_depth_m") / 1000.0
+    out.at_least("seal.seam_gasket", np.full(pressure_kpa.shape, sheet.stress_kpa(least)),
+                 sheet.pressure_safety_factor * pressure_kpa)
+    out.not_evaluated("seal.seam_gasket", ~c("hull.split_halves").astype(bool))
     # floating
     if mass is None:
         for rid in ("float.upright", "float.net_buoyancy", "float.level"):

@@ -285,6 +285,41 @@ def flooded(p: Params, link: int) -> bool:
     return link >= p.hull.flooded_from_joint
 
 
+SEAM_LAND_HEIGHT_MM = 1.0
+"""How far a seam land stands above (upper half) and below the gasket's gap (lower half) [mm]: five layers. It
+carries the sponge's push, about 0.1 N per mm of seam, as a ledge about 1 mm long, and it prints on the bed with
+the seam face (both halves print cut face down), so it needs no support (engineering default)."""
+SEAM_LAND_MARGIN_MM = 0.25
+"""The seam face is this much wider than the sheet's least strip: a die-cut edge's placement (+/- 0.2 mm)."""
+
+
+def seam_land_mm(p: Params, pc: HullPiece, s_mm: float) -> float:
+    """How far inward from the shell's inner wall a sealed piece's seam face is widened at station ``s_mm`` (both
+    halves, at the seam plane, measured across the body like the wall), so that the gasket's strip, measured square
+    to the skin's line in the plane, is the sheet's least width (catalogues/seals.toml ``min_width_thicknesses``) plus
+    :data:`SEAM_LAND_MARGIN_MM`: where the skin's line runs at slope w'(s) to the axis the strip is w / sqrt(1 + w'^2)
+    wide. 0 when the piece has no gasket or its wall is wide enough."""
+    from swiftfin.catalogues.seals import seam_gasket
+    if seam_gasket_gap_mm(p, pc) <= 0:
+        return 0.0
+    ds = 0.25
+    slope = (hull_section_semi_axes_mm(p, s_mm + ds)[0] - hull_section_semi_axes_mm(p, max(s_mm - ds, 0.0))[0]) / (
+        s_mm + ds - max(s_mm - ds, 0.0))
+    need = (seam_gasket().min_width_mm() + SEAM_LAND_MARGIN_MM) * math.sqrt(1.0 + slope**2)
+    return max(0.0, need - p.hull.wall_thickness_mm)
+
+
+def seam_gasket_gap_mm(p: Params, pc: HullPiece) -> float:
+    """How far below the seam plane the lower half of ``pc`` stops [mm]: the seam gasket's compressed thickness, the
+    length of the compression limiters round the seam screws (catalogues/seals.toml ``[seam_gasket]``), for a sealed
+    piece split into halves; 0 otherwise (the halves meet face to face). The gap spans the piece from its front to
+    its rear end (the dry wall's back face); the clevis lugs behind it keep the seam plane."""
+    from swiftfin.catalogues.seals import seam_gasket
+    if not p.hull.split_halves or flooded(p, pc.link):
+        return 0.0
+    return seam_gasket().limiter_length_mm()
+
+
 # ----------------------------------------------------------------------------------------------- fasteners
 def head_hollow_mm(p: Params) -> tuple[float, float] | None:
     """Stations [s0, s1] of the head's hollow (link 0's pieces: behind the nose cap, ahead of the dry compartment's
@@ -382,25 +417,32 @@ def boss_floor_mm(p: Params) -> float:
     return p.print.top_layers * p.print.layer_height_mm
 
 
-def seam_dowel_length_mm(p: Params) -> float:
-    """ISO 8734 length: at least 2 d in each half."""
+def seam_dowel_length_mm(p: Params, gap_mm: float = 0.0) -> float:
+    """ISO 8734 length: at least 2 d in each half, across the seam gasket's gap ``gap_mm`` (centred on it)."""
     d = p.hull.seam_dowel_diameter_mm
-    length = dowel(d).length_for(4 * d)
+    length = dowel(d).length_for(4 * d + gap_mm)
     if length is None:
-        raise BuildError(f"no {d:g} mm dowel of {4 * d:g} mm or more in catalogues/pins.toml")
+        raise BuildError(f"no {d:g} mm dowel of {4 * d + gap_mm:g} mm or more in catalogues/pins.toml")
     return length
 
 
-def seam_axis_y_mm(p: Params, s_mm: float, kind: str) -> float:
+def seam_dowel_depth_mm(p: Params, gap_mm: float = 0.0) -> float:
+    """How deep a seam dowel's bore runs from the seam plane into the lower half (the deeper of the two: the pin is
+    centred on the gasket's gap, ``gap_mm`` below the plane), with the bore's overrun [mm]."""
+    return (seam_dowel_length_mm(p, gap_mm) + gap_mm) / 2 + BORE_OVERRUN_MM
+
+
+def seam_axis_y_mm(p: Params, s_mm: float, kind: str, gap_mm: float = 0.0) -> float:
     """|y| of a seam screw's (or dowel's) vertical axis at station s: as far out as its hole's wall to the skin
-    allows (insert: the insert maker's wall over the pocket's depth; dowel: two perimeters over the bore)."""
+    allows (insert: the insert maker's wall over the pocket's depth; dowel: two perimeters over the bore, which
+    crosses the seam gasket's gap ``gap_mm``)."""
     lw = p.print.line_width_mm
     if kind == "screw":
         s = fastener(p.hull.screw_diameter_mm)
         r, depth = seam_screw_radius_mm(p), s.insert_pocket_depth_mm
         need = s.insert_hole_mm / 2 + max(2 * lw, s.insert_wall_min_mm)
     else:
-        r, depth = seam_dowel_radius_mm(p), seam_dowel_length_mm(p) / 2 + BORE_OVERRUN_MM
+        r, depth = seam_dowel_radius_mm(p), seam_dowel_depth_mm(p, gap_mm)
         need = p.hull.seam_dowel_diameter_mm / 2 + 2 * lw
     a, b = _semi_axes_under(p, s_mm, r)
     return _y_out(a, b, depth) - need - SEAM_MARGIN_MM
@@ -460,21 +502,22 @@ def seam_features(p: Params, pc: HullPiece) -> tuple[SeamFeature, ...]:
     ss = [0.5 * (lo + hi)] if k == 1 else [lo + i * (hi - lo) / (k - 1) for i in range(k)]
     screw = fastener(p.hull.screw_diameter_mm)
     floor = boss_floor_mm(p)
-    ld = seam_dowel_length_mm(p)
+    gap = seam_gasket_gap_mm(p, pc)
+    ld = seam_dowel_length_mm(p, gap)
     out = []
     for side in (1, -1):
         kinds = ["screw"] * n
         if with_dowel:
             kinds = ["dowel"] + kinds if side > 0 else kinds + ["dowel"]
         for i, (kind, s) in enumerate(zip(kinds, ss)):
-            y = side * seam_axis_y_mm(p, s, kind)
+            y = side * seam_axis_y_mm(p, s, kind, gap)
             if kind == "screw":
                 a, b = _semi_axes_under(p, s, rs)
                 out.append(SeamFeature(kind, pc.name, side, i, s, y, rs, screw.insert_pocket_depth_mm + floor,
                                        b + 1.0))
-            else:
-                depth = ld / 2 + BORE_OVERRUN_MM + floor
-                out.append(SeamFeature(kind, pc.name, side, i, s, y, rd, depth, depth))
+            else:                   # the pin centred on the gasket's gap: (ld - gap) / 2 in each half
+                out.append(SeamFeature(kind, pc.name, side, i, s, y, rd, (ld - gap) / 2 + BORE_OVERRUN_MM + floor,
+                                       seam_dowel_depth_mm(p, gap) + floor))
     return tuple(out)
 
 
@@ -485,8 +528,10 @@ def _seam_fasteners(p: Params, pc: HullPiece) -> list[Fastener]:
     for f in seam_features(p, pc):
         tag = f"{pc.name}_seam_{'p' if f.side > 0 else 'm'}y_{f.index + 1}"
         if f.kind == "dowel":
-            ld = seam_dowel_length_mm(p)
-            out.append(Fastener(tag, f"{p.hull.seam_dowel_diameter_mm:g}", "dowel", "press", (-f.s_mm, f.y_mm, -ld / 2),
+            gap = seam_gasket_gap_mm(p, pc)
+            ld = seam_dowel_length_mm(p, gap)
+            out.append(Fastener(tag, f"{p.hull.seam_dowel_diameter_mm:g}", "dowel", "press",
+                                (-f.s_mm, f.y_mm, -(ld + gap) / 2),
                                 (0.0, 0.0, 1.0), ld, 0.0, None, up, f"aligns the halves of {pc.name}", pc.link,
                                 meta={"joins_parts": (lo,), "slip_part": lo}))
             continue

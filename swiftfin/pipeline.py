@@ -447,6 +447,13 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
             (folder / rel).write_bytes(data)
             files.append({"path": rel, "sha256": sha256_bytes(data), "bytes": len(data)})
             entry["files"].append(rel)
+        if b.spec.family == "seal":          # a die-cut part: its outline is what the builder orders
+            from swiftfin.exports.gasket import gasket_outline_svg_of
+            rel = f"parts/{b.spec.label}.svg"
+            data = gasket_outline_svg_of(b.spec, b.export.mesh).encode("utf-8")
+            (folder / rel).write_bytes(data)
+            files.append({"path": rel, "sha256": sha256_bytes(data), "bytes": len(data)})
+            entry["files"].append(rel)
         parts.append(entry)
     labels = tuple(b.spec.label for b in result.parts)
     try:
@@ -605,7 +612,7 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
 
 
 MATE_WORDS = {"fastener": "by fasteners", "glued": "glued", "pad": "on pads", "bearing": "on bearing fits",
-              "edge": "hull halves meeting on an edge only"}
+              "clamped": "clamped between the halves (the seam gasket)", "edge": "hull halves meeting on an edge only"}
 
 
 def summary_table(result: BuildResult) -> str:
@@ -710,6 +717,7 @@ def bridge_summary(result: BuildResult) -> str:
 
 
 def dry_wall_summary(p: Params, dr) -> str:
+    from swiftfin.cad.dry_check import sealed_part_labels
     from swiftfin.design_rules.rules import gland_rating_m
 
     worst = min(dr.glands, key=lambda g: gland_rating_m(p, g.packed_mm, g.stroke_mm), default=None)
@@ -720,9 +728,11 @@ def dry_wall_summary(p: Params, dr) -> str:
         glands = (f"{len(dr.glands)} cable glands (the least rated to {rated:.2f} m, "
                   f"{'BELOW' if rated < depth else 'over'} the design depth {depth:g} m: {worst.label}, "
                   f"{worst.packed_mm:.1f} mm packed, stroke {worst.stroke_mm:.1f} mm)")
+    seams = ("the sealed pieces' halves on the seam gasket (cad/seal.py), their splices bonded with epoxy"
+             if any(lb.startswith("seam_gasket") for lb in sealed_part_labels(p)) else
+             "NOT sealed: the parting seams between the sealed pieces' halves (a build without the seam gasket)")
     return (f"dry wall closed: {len(dr.openings)} openings through it, each a declared sealed crossing: {glands}, "
-            f"{len(dr.screws)} screws bedded in sealant; NOT yet sealed: the parting seams between the head's "
-            f"halves and pieces (see the README, 'The dry compartment')")
+            f"{len(dr.screws)} screws bedded in sealant; seams: {seams}")
 
 
 def stderr_progress(msg: str) -> None:
@@ -766,6 +776,13 @@ def report_findings(params: Params, parts, mass_properties: dict | None, calibra
     findings = design_findings(params, mass_properties, boxes, calibration)
     if dry_report is not None:
         findings = [*findings, built_gland_finding(params, dry_report.glands)]
+    gaskets = [x.spec for x in parts or () if hasattr(x, "spec") and x.spec.family == "seal"]
+    if gaskets:
+        from swiftfin.exports.gasket import gasket_numbers
+        from swiftfin.design_rules.rules import built_seam_gasket_findings
+        per = [built_seam_gasket_findings(params, gasket_numbers(params, g)) for g in gaskets]
+        # one finding per rule: the gasket with the least margin (the head's alone on the default design)
+        findings = [*findings, *(min(fs, key=lambda f: f.margin) for fs in zip(*per))]
     return findings, list(audit_entries())
 
 

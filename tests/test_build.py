@@ -177,9 +177,11 @@ def test_default_design_builds_end_to_end(env, capsys):
     assert "every touching pair of the contact table joined" in out         # and how every mating pair is held
     manifest = json.loads((env / "build" / "manifest.json").read_text())
     families = {p["family"] for p in manifest["parts"]}
-    assert families == set(registry.FAMILIES)
+    assert families == set(registry.FAMILIES) | {"seal"}     # the seam gasket, cut from the hull family's solids
     for part in manifest["parts"]:
         expected = [f"parts/{part['label']}{k}" for k in (".step", ".stl", ".3mf")] if part["printed"] else []
+        if part["family"] == "seal":                           # bought, die-cut: its outline drawing
+            expected = [f"parts/{part['label']}.svg"]
         assert part["files"] == expected
     assert verify_manifest(env / "build") == []
     assert leftovers(env) == []

@@ -31,7 +31,7 @@ DEFAULT_LABELS = [f"{n}_{h}" for n in ("hull_head_front", "hull_head_rear", "hul
 def hull_parts():
     """The printed hull parts as the registry gives them: with every fastener's holes cut."""
     from swiftfin.cad.registry import family_function
-    return {ps.label: ps for ps in family_function("hull")(P)}
+    return {ps.label: ps for ps in family_function("hull")(P) if ps.family == "hull"}
 
 
 @pytest.fixture(scope="session")
@@ -80,13 +80,21 @@ def test_peduncle_halves_share_their_outline():
 
 
 def test_halves_meet_at_z0_and_links_are_the_segments(hull_parts):
+    """Upper halves start at the seam plane; lower halves end there, but a sealed piece's lower half ends the seam
+    gasket's gap below it (cad/seal.py: tests/test_seal.py probes the gap)."""
+    from swiftfin.layout.hull_plan import seam_gasket_gap_mm
     seg_link = {s.name: s.link for s in L.hull_segments(P)}
+    gaps = {pc.name: seam_gasket_gap_mm(P, pc) for pc in hull_pieces(P)}
+    assert gaps["hull_head_front"] == gaps["hull_head_rear"] == pytest.approx(1.5)
+    assert all(g == 0 for n, g in gaps.items() if not n.startswith("hull_head"))
     for label, ps in hull_parts.items():
         bb = ps.solid.bounding_box()
         if label.endswith("_upper"):
             assert bb.min.Z == pytest.approx(0.0, abs=1e-5)
         else:
-            assert bb.max.Z == pytest.approx(0.0, abs=1e-4)
+            # a sealed piece's gap runs to its rear end and over the splice tabs behind it, so its seam face lies on
+            # the bed when it prints (the clevis lugs behind the dry wall stay under the gap's face too)
+            assert bb.max.Z == pytest.approx(-gaps[label.rpartition("_")[0]], abs=1e-4)
         seg = next(n for n in seg_link if label.startswith(n))
         assert ps.link == seg_link[seg]
 
@@ -139,15 +147,24 @@ def _clear_station_mm(piece_name: str) -> float:
 
 def test_wall_thickness_in_mid_segment(hull_parts):
     """Half of a slab of the head's front piece between two seam screws (clear of the mounts' fixings), measured
-    at y > 0 only: material between the inner and outer ellipse."""
+    at y > 0 only: material between the inner and outer ellipse above the seam land, and the land's width beside
+    the seam plane (the gasket's seam face: the sheet's least strip, 2.4 mm, and its margin, square to the skin)."""
+    from swiftfin.layout.hull_plan import SEAM_LAND_HEIGHT_MM, seam_land_mm
     solid = hull_parts["hull_head_front_upper"].solid
+    pc = next(q for q in hull_pieces(P) if q.name == "hull_head_front")
     s = _clear_station_mm("hull_head_front")
     a, b = hull_section_semi_axes_mm(P, s)
     t = P.hull.wall_thickness_mm
+    z = SEAM_LAND_HEIGHT_MM + 0.5
     inside = lambda y, z: solid.is_inside(bd.Vector(-s, y, z))  # noqa: E731
-    assert inside(a - t / 2, 0.5)
-    assert not inside(a - t - 0.3, 0.5)
-    assert not inside(a + 0.3, 0.5)
+    assert inside(a - t / 2, z)
+    assert not inside(a - t - 0.3, z)
+    assert not inside(a + 0.3, z)
+    land = seam_land_mm(P, pc, s)
+    # (2.4 + 0.25) sqrt(1 + w'^2) - 2.0: the strip square to the skin's line, which runs at slope w' in the plane
+    slope = (hull_section_semi_axes_mm(P, s + 1.0)[0] - hull_section_semi_axes_mm(P, s - 1.0)[0]) / 2.0
+    assert land == pytest.approx(2.65 * math.sqrt(1 + slope**2) - 2.0, rel=1e-3) and land >= 0.65
+    assert inside(a - t - land + 0.1, 0.5) and not inside(a - t - land - 0.2, 0.5)
     assert inside(0.0, b - t / 2)
     assert not inside(0.0, b - t - 0.3)
 
@@ -449,8 +466,10 @@ def test_wall_round_every_seam_insert_meets_the_rule_measured_on_the_solid(hull_
 
 def test_seam_screws_leave_the_dry_head_closed(hull_parts):
     """In the sealed head pieces, round every seam screw's hole (clearance hole, counterbore, insert pocket) the
-    points two perimeters out are material or outside the skin, never in the cavity."""
+    points two perimeters out are material or outside the skin, never in the cavity (in the gasket's gap its web
+    round the limiter: tests/test_seal.py)."""
     from swiftfin.cad.hull import _cavity_range
+    from swiftfin.layout.hull_plan import seam_gasket_gap_mm
     lw, t = P.print.line_width_mm, P.hull.wall_thickness_mm
     n_checked = 0
     for f in _seam_records("cap_screw"):
@@ -464,7 +483,8 @@ def test_seam_screws_leave_the_dry_head_closed(hull_parts):
         def in_cavity(q):
             return (q[1] / (a - t)) ** 2 + (q[2] / (b - t)) ** 2 < 0.97
 
-        holes = [(lower, d, s.clearance_hole_mm / 2) for d in np.linspace(0.3, f.grip_mm - 0.3, 4)]
+        gap = seam_gasket_gap_mm(P, pc)          # the lower half ends there; the gasket's hole is above it
+        holes = [(lower, d, s.clearance_hole_mm / 2) for d in np.linspace(0.3, f.grip_mm - gap - 0.3, 4)]
         holes += [(lower, -d, s.counterbore_diameter_mm / 2) for d in np.linspace(0.3, f.recess_mm, 6)]
         holes += [(upper, f.grip_mm + d, s.insert_hole_mm / 2) for d in (0.3, 1.5, 3.2)]
         r_cb, out = s.counterbore_diameter_mm / 2, np.asarray(f.recess_open_toward, dtype=float)
@@ -597,6 +617,8 @@ def test_longer_body_builds_valid_parts():
     assert any(ps.label.startswith("hull_head_") for ps in parts)
     for ps in parts:
         assert ps.solid.is_valid and len(ps.solid.solids()) == 1, ps.label
+        if not ps.printed:        # the seam gasket: cut from sheet, as long as the sealed head
+            continue
         bb = ps.solid.rotate(bd.Axis.X, ps.print_rotation[0]).rotate(bd.Axis.Z, ps.print_rotation[2]).bounding_box()
         assert bb.size.X <= p.print.bed_x_mm + 1e-6 and bb.size.Y <= p.print.bed_y_mm + 1e-6, ps.label
 
