@@ -6,6 +6,8 @@ own plastic changes the trim, so trim, fill and dams are made again until the fi
 """
 from __future__ import annotations
 
+import dataclasses
+
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 
@@ -16,6 +18,22 @@ SETTLED_MM = 0.01
 KEEP_OUT_SKIPPED = ("hull", "fin", "cable", "ptfe", "fastener", "seal", "ballast")
 """Families whose parts the fill need not keep clear of by their boxes (the shell it is poured against, and what
 runs along the shell or lies in its seam)."""
+
+
+def _line_boxes(p: Params) -> list:
+    """The boxes of the cables' pieces and the PTFE tubes at rest, ``(label, link, lo, hi)`` in mm: they run along
+    the shell, where a fill is poured (cad/cables.py)."""
+    import numpy as np
+
+    from swiftfin.cad.cables import cable_pieces, tube_runs
+    out = []
+    for c in cable_pieces(p):
+        pts = np.asarray(c.points_mm, float)
+        out.append((c.label, c.link, tuple(pts.min(0) - c.radius_mm), tuple(pts.max(0) + c.radius_mm)))
+    for t in tube_runs(p):
+        pts = np.asarray(t.points_mm, float)
+        out.append((t.label, t.link, tuple(pts.min(0) - t.od_mm / 2), tuple(pts.max(0) + t.od_mm / 2)))
+    return out
 
 
 def ballast_specs(p: Params, specs, meshes: dict | None = None, memo=None, jobs: int | None = 1,
@@ -58,7 +76,8 @@ def ballast_specs(p: Params, specs, meshes: dict | None = None, memo=None, jobs:
                 progress(f"  trim ballast: none ({trim.get('reason', 'environment.trim_ballast is off')})")
             return []
         keep = [(s.label, *boxes[s.label]) for s in specs
-                if s.link == trim["link"] and s.family not in KEEP_OUT_SKIPPED]
+                if s.link == trim["link"] and s.family not in KEEP_OUT_SKIPPED] + [
+            (label, lo, hi) for label, link, lo, hi in _line_boxes(p) if link == trim["link"]]
         plan, why = plan_ballast(p, trim["mass_kg"], 1000 * trim["x_m"],
                                  1000 * trim.get("z_wanted_m", trim.get("z_m", 0.0)), int(trim["link"]), keep)
         if plan is None:
@@ -71,6 +90,13 @@ def ballast_specs(p: Params, specs, meshes: dict | None = None, memo=None, jobs:
         ends = plan.s_mm
         if settled:
             break
+    # the last round's trim was made with the dams before these (settled to SETTLED_MM): the fill takes the mass
+    # the trim asks with these, so that the fish is neutral to the mass model's precision (its volume is the plan's,
+    # a few parts in 1e5 from that mass over the fill's density)
+    trim = mass_properties(p, specs + dams, {**meshes, **{d.label: tessellate_trimesh(
+        d.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg) for d in dams}},
+        memo=own, jobs=jobs).trim
+    made = [s if s.printed else dataclasses.replace(s, mass_kg=float(trim["mass_kg"])) for s in made]
     if progress:
         progress(f"  trim ballast: {1000 * plan.mass_kg:.1f} g of fill ({1000 * plan.lead_kg:.1f} g of shot) in "
                  f"{plan.bonded_to}, s = {plan.s_mm[0]:.1f}..{plan.s_mm[1]:.1f} mm, its centre "

@@ -276,7 +276,8 @@ def place_ballast(result: BuildResult, cache: FamilyCache | None = None, progres
     from swiftfin.exports.robot import as_trimesh
 
     p = result.params
-    if not p.environment.trim_ballast or not set(FAMILIES) <= set(result.family_times_s):
+    if not p.environment.trim_ballast or not set(FAMILIES) <= set(result.family_times_s) \
+            or "hull" not in result.family_times_s:       # no hull to pour it into (a test's partial build)
         return
     specs = ballast_specs(p, [b.spec for b in result.parts],
                           {b.spec.label: as_trimesh(b.export.mesh) for b in result.parts}, stage_memo(result, cache),

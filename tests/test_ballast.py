@@ -54,7 +54,7 @@ def test_solid_is_its_plan(default_params, fill):
     assert fill.solid.volume == pytest.approx(plan.volume_mm3, rel=2e-3)
     c = fill.solid.center()
     assert (c.X, c.Y, c.Z) == pytest.approx(plan.com_mm, abs=0.1)
-    assert fill.mass_kg == pytest.approx(plan.volume_mm3 * 1e-9 * plan.density_kg_m3, rel=1e-9)
+    assert fill.mass_kg == pytest.approx(plan.volume_mm3 * 1e-9 * plan.density_kg_m3, rel=1e-4)   # the last round
     bb = fill.solid.bounding_box()
     assert plan.sigma * bb.min.Z >= plan.z_level_mm - 1e-6 if plan.sigma > 0 else -bb.max.Z >= plan.z_level_mm - 1e-6
 
