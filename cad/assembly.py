@@ -140,6 +140,11 @@ CONTACTS: tuple[Contact, ...] = (
             "(cad/guide.py)"),
     Contact(r"flotation_\d+", r"hull_.+", "a flotation foam block is glued into the lower "
             "half of its flooded segment where its sides meet the shell (layout/flotation_plan.py)", link_delta=0),
+    Contact(r"trim_ballast|ballast_dam(_fore|_aft)?", r"hull_.+", "the trim ballast (lead shot set in epoxy) is "
+            "poured into the hull's hollow against the shell and its printed dams, which the epoxy bonds there "
+            "(cad/ballast.py)", link_delta=0),
+    Contact(r"trim_ballast", r"ballast_dam(_fore|_aft)?", "the trim ballast is poured against its dams "
+            "(cad/ballast.py)", link_delta=0),
     Contact(r"cradle_.+", r"hull_.+", "a component's cradle is bonded with epoxy into the hull's lower half along "
             "its underside (cad/cradle.py)", link_delta=0),
     Contact(r"cradle_(?P<c>.+)", r"(?P<c>.+)", "a component sits in its cradle's pocket on a hook-and-loop pad, "

@@ -69,6 +69,9 @@ REMOVAL: tuple[tuple[str, tuple[str, ...], str], ...] = (
     (r"caudal_fin", ("-x",), "Slide the caudal fin's tang into the peduncle's slot and drive its root screws"),
     (r"hull_head_.+_upper", ("+z",), "Close the head with its upper halves; drive the wall screws into the "
      "motor mounts from outside"),
+    (r"trim_ballast|ballast_dam(_fore|_aft)?", ("+z", "-z"), "On the bench, with the half that takes it on its "
+     "back: bond the ballast dam in with epoxy, pour the weighed lead shot ahead of it and fill with epoxy to the "
+     "level (bill of materials; cad/ballast.py); let it cure before the half goes on"),
     (r"seam_gasket(_\d+)?", ("+z",), "Lay the seam gasket on the head's lower halves, a compression limiter in each of "
      "its holes round the seam screws (cad/seal.py)"),
     (r"battery|electronics", ("+z", "+y", "-y"), "Seat the battery and the electronics"),

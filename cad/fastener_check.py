@@ -255,6 +255,11 @@ GLUED: tuple[Glued, ...] = (
           "a flotation foam block is glued into its flooded segment's lower shell (its lift, under 0.2 N, needs "
           "no rated bond area: any contact glue holds it; area 0 = not sized). Every other joint comes apart "
           "for service"),
+    Glued(r"trim_ballast|ballast_dam(_fore|_aft)?", r"hull_.+", 0.0,
+          "the trim ballast's epoxy sets the shot and bonds it and its dams to the shell it is poured against "
+          "(the load, its weight under a few g of handling, is a few kPa over the shell: not sized)"),
+    Glued(r"trim_ballast", r"ballast_dam(_fore|_aft)?", 0.0,
+          "the trim ballast's epoxy bonds it to its dams"),
     Glued(r"cradle_.+", r"hull_.+", 0.0,
           "a component's cradle is bonded with epoxy into the hull's lower half along its whole underside (its "
           "footprint, in cm^2, on the bill of materials; the load, the component's weight under a few g of "

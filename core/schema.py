@@ -281,7 +281,9 @@ class Environment:
     trim_ballast: bool = p(True, doc="Add the lead ballast that makes the fish neutral and level (mass and place "
                                      "computed from the mass model; it is listed as the part trim_ballast)",
                            source="Engineering default")
-    ballast_density_kg_m3: float = p(11340.0, 2000.0, 20000.0, "Density of the trim ballast", "Lead (11.34 g/cm^3)")
+    ballast_density_kg_m3: float = p(11340.0, 2000.0, 20000.0, "Density of the trim ballast's metal (the shot set "
+                                       "in epoxy: catalogues/ballast.toml, layout/ballast_plan.py)",
+                                       "Lead (11.34 g/cm^3)")
     flotation_foam_segments: int = p(2, 0, 8, "Flooded hull segments, from hull.flooded_from_joint aft, that get a "
                                      "block of closed-cell foam glued into their lower half under the cables "
                                      "(the lift a fish heavier than its displacement needs; the lead then trims "
@@ -456,7 +458,7 @@ DEFAULT_COMPONENTS = (
     Component(name="electronics", mass_kg=0.030, size_mm=(45.0, 15.0, 30.0), station_fraction=0.077, z_mm=-6.0,
               source="Arduino Nano (7 g) + 4 x A4988 carriers (4 x 3 g) + MPU6050 + wiring, board on edge in the nose, "
                      "lengthwise and 6 mm low (its cradle needs two perimeters of floor over the narrowing nose "
-                     "under a 3 mm pad): the trim lead sits above it (exports/water.py ballast_height)"),
+                     "under a 3 mm pad): the trim lead is poured above it (layout/ballast_plan.py)"),
 )
 # (the screws, inserts, nuts and pins are no longer a lumped component: each fastener record carries its catalogue
 # mass at its place, exports/line_masses.py fastener_masses)

@@ -226,7 +226,7 @@ def declared_lines(specs) -> list[BomLine]:
 
 def ballast_lines(mass_properties: dict | None) -> list[BomLine]:
     trim = (mass_properties or {}).get("trim") or {}
-    if not trim.get("enabled") or not trim.get("possible", True) or not trim.get("mass_kg"):
+    if not trim.get("enabled") or not trim.get("possible", True) or not trim.get("mass_kg") or trim.get("placed"):
         return []
     return [BomLine("Trim ballast, lead", f"{trim['mass_kg'] * 1000:.1f} g (sphere of {2 * trim['sphere_radius_mm']:.1f} mm "
                     f"or shot in the pocket)", round(trim["mass_kg"] * 1000, 1), "g",

@@ -36,6 +36,7 @@ from swiftfin.core import units
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as layout
+from swiftfin.layout.ballast_plan import FILL_LABEL
 from swiftfin.exports.brep import (  # noqa: F401  re-exported: the mass model's geometry
     VOLUME_EPS, VolumeProps, _props, _wrapped, mesh_volume_props, solid_area_mm2, solid_volume_props)
 from swiftfin.exports.brep import tessellate_trimesh as tessellate
@@ -226,6 +227,10 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
             water.append(w)
         return link_V, link_cob, water
 
+    # a trim ballast built as a part (swiftfin.pipeline.place_ballast) is what the trim below sizes: the trim is
+    # computed without it, and the part, where the hull could take it, stands for the trim's ideal sphere
+    fill = [pt for pt in out if pt.label == FILL_LABEL]
+    out = [pt for pt in out if pt.label != FILL_LABEL]
     link_V, link_cob, water = displacement(out)
     trim: dict = {"enabled": bool(params.environment.trim_ballast)}
     if params.environment.trim_ballast:
@@ -237,17 +242,25 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
         if head:                         # what a builder may add to the head, at its centre, and still trim it
             trim["head_margin_kg"] = trim_margin_kg(params, dry.mass_kg, dry.com, V_m3, cob0, flooded,
                                                     float(combine(head).com[0]))
-        if trim.get("possible"):
+        if fill and (trim.get("possible") or trim.get("sphere_only")):
+            trim = {**trim, "possible": True, "reason": ""}
+            f = fill[0]
+            c = f.inertial.com
+            trim.update({"placed": "fill", "fill_mass_kg": f.inertial.mass_kg, "fill_com_m": [float(v) for v in c],
+                         "fill_miss_x_m": float(trim["x_m"] - c[0]), "z_m": float(c[2])})
+            out.append(f)
+            link_V, link_cob, water = displacement(out)
+        elif trim.get("possible"):
             j = int(trim["link"])
             carried = [pt.inertial for pt in out if pt.link == j] + ([water[j]] if water[j] is not None else [])
             # clear of the solid parts inside (the hull's room is in z_room_m; cables, tubes and fasteners are
             # summed per link here, their boxes the link's, and none runs through the nose's middle)
             keep = [(pt.label, pt.bbox_m) for pt in out if pt.link == j
-                    and pt.family not in ("hull", "fin", "cable", "ptfe", "fastener")]
+                    and pt.family not in ("hull", "fin", "cable", "ptfe", "fastener", "ballast")]
             trim = ballast_height(trim, combine(carried), keep, params.print.clearance_assembly_mm * 1e-3)
-        if trim.get("possible"):
-            out.append(_ballast_part(params, trim))
-            link_V, link_cob, water = displacement(out)
+            if trim.get("possible"):
+                out.append(_ballast_part(params, trim))
+                link_V, link_cob, water = displacement(out)
     links_idx = sorted({pt.link for pt in out})
     V_tot = sum(link_V)
     cob_mm = sum(v * c for v, c in zip(link_V, link_cob)) / V_tot

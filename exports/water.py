@@ -25,6 +25,7 @@ from swiftfin.exports.line_masses import link_of_station
 from swiftfin.exports.parallel import memoized
 from swiftfin.exports.print_model import PartMass, _common
 from swiftfin.layout import geometry as layout
+from swiftfin.layout.ballast_plan import fill_density_kg_m3
 
 
 def envelope_section_mm(p: Params, s_mm):
@@ -69,7 +70,7 @@ def trim_ballast(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, floo
     displaces water) and ``v = 0`` in a sealed one. Level: ``(M x_com + m x) / (M + m) = (V x_cob + v x) / (V + v)``,
     so ``x = (rho_w V x_cob - M x_com) / (m - rho_w v)``. Returns the numbers and, when no ballast can do it (the
     fish sinks, or the place falls outside the hull), ``possible`` False and the reason."""
-    rho_w, rho_b = p.environment.water_density_kg_m3, p.environment.ballast_density_kg_m3
+    rho_w, rho_b = p.environment.water_density_kg_m3, fill_density_kg_m3(p)   # lead shot set in epoxy
     M, V = float(mass_kg), float(volume_m3)
     x_com, x_cob = float(com_m[0]), float(cob_m[0])
     out = {"ballast_density_kg_m3": rho_b, "excess_buoyancy_kg": rho_w * V - M}
@@ -93,7 +94,7 @@ def trim_ballast(p: Params, mass_kg: float, com_m, volume_m3: float, cob_m, floo
                 "in_flooded_link": bool(flooded_links[min(link, len(flooded_links) - 1)]),
                 "sphere_radius_mm": r_mm})
     if not (s_lo < s_mm < s_hi) or room <= 0:
-        return {**out, "possible": False,
+        return {**out, "possible": False, "sphere_only": s_lo < s_mm < s_hi,
                 "reason": f"the ballast would have to sit at station {s_mm:.0f} mm ({s_mm / p.body.length_mm:.3f} L), "
                           f"{'outside the hull' if not (s_lo < s_mm < s_hi) else 'where a sphere of it does not fit'}"}
     z_room_mm = _vertical_room_mm(float(a), float(b), p.hull.wall_thickness_mm + r_mm)
@@ -184,7 +185,7 @@ def ballast_height(trim: dict, link_inertial, keep_out=(), clearance_m: float = 
     for b0, b1 in blocked:
         free = [piece for f0, f1 in free for piece in ((f0, min(f1, b0)), (max(f0, b1), f1)) if piece[1] > piece[0]]
     if not free:
-        return {**trim, "possible": False,
+        return {**trim, "possible": False, "sphere_only": True, "z_wanted_m": want,
                 "reason": f"no height at station {-1000 * x_b:.0f} mm holds the {1000 * r:.1f} mm lead sphere inside "
                           f"the hull clear of {', '.join(names)}"}
     z = min((float(np.clip(want, f0, f1)) for f0, f1 in free), key=lambda zz: abs(zz - want))
@@ -198,9 +199,9 @@ def _ballast_part(p: Params, trim: dict) -> PartMass:
     it = make_inertial(m, c, 0.4 * m * r * r * np.eye(3))
     bbox = (tuple(c - r), tuple(c + r))
     return PartMass("trim_ballast", int(trim["link"]), "ballast", False,
-                    "computed: lead sphere (environment.ballast_density_kg_m3) that makes the fish neutral and level "
-                    "(exports.massprops.trim_ballast)", (), m / p.environment.ballast_density_kg_m3, 0.0,
-                    m / p.environment.ballast_density_kg_m3, 0.0, it, it, None, None, bbox)
+                    "computed: sphere of lead shot in epoxy (layout/ballast_plan.py) that makes the fish neutral and "
+                    "level (exports.massprops.trim_ballast)", (), m / fill_density_kg_m3(p), 0.0,
+                    m / fill_density_kg_m3(p), 0.0, it, it, None, None, bbox)
 
 
 def _outside_piece(part, x_end_mm: float, big_mm: float, whole=None) -> VolumeProps | None:

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 FAMILY_COLORS = {"hull": (0.62, 0.72, 0.82), "link": (0.95, 0.65, 0.25), "fin": (0.24, 0.43, 0.57),
                  "spool": (0.89, 0.34, 0.18), "mount": (0.46, 0.69, 0.25), "guide": (0.63, 0.42, 0.84),
-                 "cradle": (0.86, 0.74, 0.30), "bought": (0.33, 0.33, 0.36)}
+                 "cradle": (0.86, 0.74, 0.30), "ballast": (0.45, 0.47, 0.52), "bought": (0.33, 0.33, 0.36)}
 OTHER_COLOR = (0.7, 0.7, 0.7)
 VERDICT_CLASS = {"PASS": "pass", "INFO": "info", "NOT_EVALUATED": "na", "WARN": "warn", "FAIL": "fail"}
 

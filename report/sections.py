@@ -198,7 +198,10 @@ def mass_section(p: Params, mp: dict | None, mp_note: str) -> str:
     trim = mp.get("trim", {})
     if trim.get("possible"):
         tiles.append(tile("trim ballast", num(1000 * trim["mass_kg"], ".1f", "g"),
-                          f"lead sphere at {trim['station_fraction']:.3f} L, z {1000 * trim['z_m']:.0f} mm"
+                          (f"lead shot in epoxy, centred at s = {-1000 * trim['fill_com_m'][0]:.1f} mm, z "
+                           f"{1000 * trim['z_m']:.0f} mm ({1000 * trim['fill_miss_x_m']:+.1f} mm from the level "
+                           f"trim's station)" if trim.get("placed") else
+                           f"lead sphere at {trim['station_fraction']:.3f} L, z {1000 * trim['z_m']:.0f} mm")
                           + (f"; at most {1000 * trim['head_margin_kg']:.1f} g more at the head's centre keeps "
                              f"the lead inside the hull" if "head_margin_kg" in trim else "")))
     elif trim.get("enabled"):

@@ -253,6 +253,38 @@ def _build_family(name: str, p: Params, cache, result: BuildResult, seen: dict, 
                      f"{b.time_s:6.2f} s{'  (cached)' if b.cached else ''}")
 
 
+def _built_part(spec: PartSpec, p: Params) -> BuiltPart:
+    """One part made outside the families (the trim ballast), checked and exported as a family's parts are."""
+    from swiftfin.exports.files import export_part
+
+    t0 = time.perf_counter()
+    spec = _check_spec(spec, spec.family)
+    solid, brep = brep_roundtrip(spec.solid, spec.label)
+    spec = dataclasses.replace(spec, solid=solid)
+    exp = export_part(spec, p)
+    if exp.print_rotation is not None and tuple(exp.print_rotation) != tuple(spec.print_rotation):
+        spec = dataclasses.replace(spec, print_rotation=tuple(exp.print_rotation))
+    _check_bed(spec, exp.print_size_mm, p)
+    return BuiltPart(spec, exp, time.perf_counter() - t0, False, _content_key(spec, brep))
+
+
+def place_ballast(result: BuildResult, cache: FamilyCache | None = None, progress=None) -> None:
+    """The trim ballast's parts (:func:`swiftfin.ballast.ballast_specs`) appended to ``result.parts``, so that the
+    assembly, the clearance and dry-wall checks, the assembly steps, the bill of materials and the mass model all
+    see them. Only on a whole build with ``environment.trim_ballast``."""
+    from swiftfin.ballast import ballast_specs
+    from swiftfin.exports.robot import as_trimesh
+
+    p = result.params
+    if not p.environment.trim_ballast or not set(FAMILIES) <= set(result.family_times_s) \
+            or "hull" not in result.family_times_s:       # no hull to pour it into (a test's partial build)
+        return
+    specs = ballast_specs(p, [b.spec for b in result.parts],
+                          {b.spec.label: as_trimesh(b.export.mesh) for b in result.parts}, stage_memo(result, cache),
+                          build_jobs(), progress)
+    result.parts += [_built_part(s, p) for s in specs]
+
+
 CHECK_FIELDS = ("assembly_stats", "cable_stats", "fastener_report", "dry_report", "assembly_plan", "check_time_s")
 """What :func:`check_built` fills in on the BuildResult."""
 
@@ -589,6 +621,7 @@ def build(params_file: str | Path, out_dir: str | Path, cache: FamilyCache | Non
             prefetch = Prefetch(cache.root, STAGE_MODULES["part_core"], build_jobs())
             prefetch.plots(p)
         result = build_parts(p, cache, progress, prefetch=prefetch)
+        place_ballast(result, cache, progress)
         if cal is not None:
             result.calibration, result.calibration_changes = cal, changes
         if progress:

@@ -97,13 +97,24 @@ def default_params():
 
 @pytest.fixture(scope="session")
 def default_parts(default_params):
-    """Every part of the default design: each family of cad/registry.py, in build order (built once per
-    session: about 30 s)."""
+    """Every part of the default design: each family of cad/registry.py, in build order, then the trim ballast's
+    dam and fill (swiftfin/ballast.py, which the build adds after them), built once per session (about 30 s and
+    the ballast's rounds of the mass model)."""
+    import json
+
+    from swiftfin.ballast import ballast_specs
     from swiftfin.cad.registry import FAMILIES, family_function
     parts = []
     for name in FAMILIES:
         parts += family_function(name)(default_params)
-    return parts
+    stored: dict = {}
+
+    def memo(stage, labels, key, compute):       # one session's store: the parts do not change
+        k = (stage, tuple(labels), json.dumps(key, sort_keys=True, default=str))
+        if k not in stored:
+            stored[k] = compute()
+        return stored[k]
+    return parts + ballast_specs(default_params, parts, memo=memo, jobs=2)
 
 
 def pytest_addoption(parser):
