@@ -12,6 +12,7 @@ application builds them after the rest (``swiftfin.pipeline.place_ballast``).
 """
 from __future__ import annotations
 
+from swiftfin.cad.cradle import inner_loft
 from swiftfin.cad.kernel import bd
 from swiftfin.cad.link import box, isect, one_solid
 from swiftfin.cad.part import PartSpec
@@ -19,29 +20,22 @@ from swiftfin.catalogues.adhesives import adhesive
 from swiftfin.catalogues.ballast import ballast_fill
 from swiftfin.core.schema import Params
 from swiftfin.layout.ballast_plan import DAM_LABEL, FILL, FILL_LABEL, BallastPlan
-from swiftfin.layout.cradle_plan import CRADLE_ADHESIVE, inner_semi_axes_mm
+from swiftfin.layout.cradle_plan import CRADLE_ADHESIVE
 
 LOFT_STEP_MM = 1.0
 """Station step of the inner-surface loft (the nose's sections change fast: 1 mm keeps the fill's volume within
 0.1 % of the plan's integral)."""
 
 
-def inner_loft(p: Params, s0: float, s1: float, gap_mm: float) -> bd.Solid:
-    """The shell's hollow between stations s0 and s1, its inner surface shrunk by ``gap_mm``."""
-    n = max(2, int(round((s1 - s0) / LOFT_STEP_MM)) + 1)
-    wires = []
-    for k in range(n):
-        s = s0 + (s1 - s0) * k / (n - 1)
-        a, b = inner_semi_axes_mm(p, s, gap_mm)
-        pl = bd.Plane(origin=(-s, 0, 0), x_dir=(0, 1, 0), z_dir=(1, 0, 0))
-        wires.append(bd.Wire([bd.Edge.make_ellipse(a, b, pl)]))
-    return bd.Solid.make_loft(wires)
+def _loft(p: Params, s0: float, s1: float, gap_mm: float) -> bd.Solid:
+    """The shell's hollow between stations s0 and s1, its inner surface shrunk by ``gap_mm``, at 1 mm steps."""
+    return inner_loft(p, s0, s1, gap_mm, max(2, int(round((s1 - s0) / LOFT_STEP_MM)) + 1))
 
 
 def _beyond(p: Params, plan: BallastPlan, s0: float, s1: float, level: float, label: str) -> bd.Solid:
     big = 200.0
     z0, z1 = (level, big) if plan.sigma > 0 else (-big, -level)
-    return one_solid(isect(inner_loft(p, s0, s1, plan.gap_mm), box(-s1 - 1, -s0 + 1, -big, big, z0, z1)), label)
+    return one_solid(isect(_loft(p, s0, s1, plan.gap_mm), box(-s1 - 1, -s0 + 1, -big, big, z0, z1)), label)
 
 
 def fill_solid(p: Params, plan: BallastPlan) -> bd.Solid:

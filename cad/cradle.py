@@ -31,15 +31,20 @@ AXIS_ROTATIONS = ((0.0, 0.0, 0.0), (180.0, 0.0, 0.0), (90.0, 0.0, 0.0), (-90.0, 
                   (0.0, -90.0, 0.0))
 
 
-def _inner_loft(p: Params, c: Cradle, inset_mm: float = 0.0) -> bd.Solid:
-    s0, s1 = -c.x_mm[1] - 1.0, -c.x_mm[0] + 1.0
+def inner_loft(p: Params, s0: float, s1: float, gap_mm: float, stations: int) -> bd.Solid:
+    """The shell's hollow between stations s0 and s1 (mm, s0 < s1), its inner surface shrunk by ``gap_mm``: a loft
+    of the inner ellipses at ``stations`` evenly spaced stations (the cradles' and the trim ballast's solids)."""
     wires = []
-    for k in range(LOFT_STATIONS):
-        s = s0 + (s1 - s0) * k / (LOFT_STATIONS - 1)
-        a, b = inner_semi_axes_mm(p, s, c.bond_gap_mm + inset_mm)
+    for k in range(stations):
+        s = s0 + (s1 - s0) * k / (stations - 1)
+        a, b = inner_semi_axes_mm(p, s, gap_mm)
         pl = bd.Plane(origin=(-s, 0, 0), x_dir=(0, 1, 0), z_dir=(1, 0, 0))
         wires.append(bd.Wire([bd.Edge.make_ellipse(a, b, pl)]))
     return bd.Solid.make_loft(wires)
+
+
+def _inner_loft(p: Params, c: Cradle, inset_mm: float = 0.0) -> bd.Solid:
+    return inner_loft(p, -c.x_mm[1] - 1.0, -c.x_mm[0] + 1.0, c.bond_gap_mm + inset_mm, LOFT_STATIONS)
 
 
 def cradle_solid(p: Params, c: Cradle) -> bd.Solid:

@@ -60,6 +60,11 @@ def _table() -> dict:
     return tomllib.loads((HERE / "seals.toml").read_text(encoding="utf-8"))
 
 
+def _row(cls, section: str):
+    """The ``[section]`` table of seals.toml as ``cls``: numbers as floats, text as it stands."""
+    return cls(**{k: (v if isinstance(v, str) else float(v)) for k, v in _table()[section].items()})
+
+
 @cache
 def seal_limits() -> SealLimits:
     return SealLimits(**{k: float(v) for k, v in _table()["limits"].items()})
@@ -126,8 +131,7 @@ def seam_gap_tolerance_mm() -> float:
 
 @cache
 def seam_gasket() -> SeamGasket:
-    row = _table()["seam_gasket"]
-    return SeamGasket(**{k: (v if isinstance(v, str) else float(v)) for k, v in row.items()})
+    return _row(SeamGasket, "seam_gasket")
 
 
 @dataclass(frozen=True)
@@ -146,8 +150,7 @@ class CompressionLimiter:
 
 @cache
 def compression_limiter() -> CompressionLimiter:
-    row = _table()["compression_limiter"]
-    return CompressionLimiter(**{k: (v if isinstance(v, str) else float(v)) for k, v in row.items()})
+    return _row(CompressionLimiter, "compression_limiter")
 
 
 @dataclass(frozen=True)
@@ -166,8 +169,7 @@ class CableGland:
 
 @cache
 def cable_gland() -> CableGland:
-    row = _table()["cable_gland"]
-    return CableGland(**{k: (v if isinstance(v, str) else float(v)) for k, v in row.items()})
+    return _row(CableGland, "cable_gland")
 
 
 @cache

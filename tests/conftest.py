@@ -89,6 +89,15 @@ def require_shared(*parts: str) -> Path:
     return path
 
 
+def manifold_of(solid, tolerance_mm: float, angular_tolerance_deg: float):
+    """A CAD solid as a manifold3d Manifold (its tessellation at the given tolerances), for exact booleans on meshes
+    (overlap and touch between parts)."""
+    from swiftfin.cad.assembly import Placed
+    from swiftfin.exports.brep import tessellate
+    m = tessellate(solid, tolerance_mm, angular_tolerance_deg)
+    return Placed("x", 0, "x", m.vertices, m.faces).manifold
+
+
 @pytest.fixture(scope="session")
 def default_params():
     from swiftfin.layout.design import load_design

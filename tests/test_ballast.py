@@ -11,6 +11,7 @@ import pytest
 from swiftfin.catalogues.ballast import ballast_fill
 from swiftfin.layout.ballast_plan import (DAM_LABEL, DAM_RISE_MM, FILL_LABEL, fill_density_kg_m3, plan_ballast,
                                           segment)
+from tests.conftest import manifold_of
 
 
 @pytest.fixture(scope="module")
@@ -60,10 +61,7 @@ def test_solid_is_its_plan(default_params, fill):
 
 
 def _manifold(solid, p):
-    from swiftfin.cad.assembly import Placed
-    from swiftfin.exports.brep import tessellate
-    m = tessellate(solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
-    return Placed("x", 0, "x", m.vertices, m.faces).manifold
+    return manifold_of(solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
 
 
 def test_fill_and_dam_lie_in_the_hollow_clear_of_the_parts_inside(default_params, by_label, fill):

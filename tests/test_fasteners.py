@@ -10,6 +10,7 @@ import pytest
 from swiftfin.catalogues.fasteners import (dowel, dowels, eclip_for_pin, fastener, screw_diameters_mm,
                                             screw_sizes)
 from swiftfin.layout.fastening import Fastener, screw_length
+from tests.conftest import manifold_of
 
 
 # ------------------------------------------------------------------------------------------------ the tables
@@ -75,10 +76,7 @@ def test_fastener_records_name_what_is_wrong_with_their_numbers():
 
 # ------------------------------------------------------------------------------------------------ on solids
 def _manifold(solid):
-    from swiftfin.cad.assembly import Placed
-    from swiftfin.exports.brep import tessellate
-    mesh = tessellate(solid, 0.01, 5.0)
-    return Placed("x", 0, "test", mesh.vertices, mesh.faces).manifold
+    return manifold_of(solid, 0.01, 5.0)
 
 
 @pytest.fixture(scope="module")

@@ -13,6 +13,7 @@ from swiftfin.cad.seal import GASKET_LABEL
 from swiftfin.exports.gasket import (compression_range, gasket_numbers, gasket_outline_svg_of, narrowest_strip_mm,
                                      ring_survives_opening, sponge_stress_kpa)
 from swiftfin.catalogues.seals import compression_limiter, seal_limits, seam_gasket
+from tests.conftest import manifold_of
 
 
 @pytest.fixture(scope="module")
@@ -26,10 +27,7 @@ def gasket(by_label):
 
 
 def _mesh_manifold(solid, p):
-    from swiftfin.cad.assembly import Placed
-    from swiftfin.exports.brep import tessellate
-    m = tessellate(solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
-    return Placed("x", 0, "x", m.vertices, m.faces).manifold
+    return manifold_of(solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
 
 
 def _circle(r, c=(0.0, 0.0), n=720, ccw=True):
