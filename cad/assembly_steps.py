@@ -96,6 +96,10 @@ BENCH: tuple[tuple[str, str], ...] = (
 is fastened to its host on the bench and goes into the fish with it (a motor screwed to its mount: the mount's
 plate is over the motor, so the motor alone could only go in first and hang there)."""
 
+LEADS_TEXT = ("Lay the leads (cut lengths in the bill of materials; layout/harness_plan.py): each motor's up its flank "
+              "from the strain relief and forward along it to the electronics' side, the battery snap's forward under "
+              "the front motor and up beside the electronics' cradle; crimp their housings on, plug them in and lace "
+              "each side's leads together. ")
 WIND_TEXT = ("Seat the guides' PTFE tubes, lead every cable through them onto its split spool (lower half: the right "
              "cable, upper half: the left), crimp the ends in their seats and set the pretension with the vernier "
              "(steps in the tensioner table)")
@@ -126,7 +130,7 @@ class Step:
     direction: str             # insertion direction, a key of AXES ("" for threading)
     travel_mm: tuple[float, ...]   # per part: the path proved clear, from outside everything placed to its seat
     fasteners: tuple[str, ...] = ()
-    threads: tuple[str, ...] = ()  # cables and tubes threaded in this step
+    threads: tuple[str, ...] = ()  # cables and tubes threaded, leads laid, in this step
     explode_mm: float = 0.0        # how far the exploded view sets the parts back (explode_distance_mm)
 
     @property
@@ -423,6 +427,7 @@ def _with_threading(p: Params, steps: list[Step], built: set[str]) -> list[Step]
     anchored there (both sides, crimped), and every cable that runs through it is laid in its tubes. Before the
     head's lid, the guides' tubes go in and the cables are wound on the spools and tensioned. Renumbers the steps."""
     from swiftfin.cad.cables import tube_runs
+    from swiftfin.layout.harness_plan import harness
     from swiftfin.layout.hull_plan import head_lid_labels, hull_pieces, part_label
 
     n = p.joints.count
@@ -456,7 +461,10 @@ def _with_threading(p: Params, steps: list[Step], built: set[str]) -> list[Step]
     in_head = sorted(pc.rear_joint for pc in hull_pieces(p) if pc.link == 0 and pc.rear_joint is not None)
     text = "".join(f"Anchor both sides of cable {j} in joint_link_{j}'s tendon sector (crimp seats). "
                    for j in in_head) + WIND_TEXT
-    inserts.setdefault(at, []).append(Step(0, text, (), "", (), threads=head))
+    leads = tuple(h.label for h in harness(p)) if "electronics" in built else ()
+    if leads:
+        text = LEADS_TEXT + text
+    inserts.setdefault(at, []).append(Step(0, text, (), "", (), threads=leads + head))
     out: list[Step] = []
     for s in steps:
         out += inserts.pop(s.number, [])

@@ -504,6 +504,18 @@ def cable_parts(p: Params, pieces=None, tubes=None) -> list[Placed]:
     return out
 
 
+def harness_parts(p: Params, leads=None) -> list[Placed]:
+    """Every lead of the wiring harness (:func:`swiftfin.layout.harness_plan.harness`) as a mesh of family
+    "harness" on the head (link 0), swept along its rounded centre line, flat at both ends."""
+    from swiftfin.layout.harness_plan import harness
+    leads = harness(p) if leads is None else leads
+    out = []
+    for h in leads:
+        v, f = sweep_mesh(h.centre_line_mm, h.diameter_mm / 2, CABLE_SIDES)
+        out.append(Placed(h.label, 0, "harness", v, f))
+    return out
+
+
 # ----------------------------------------------------------------------------------------------- stops
 def _end_ring(t: TubeRun, end: int, depth_mm: float):
     """The ring (tube ID to OD) from the tube's end ``end`` (0: first point, -1: last) ``depth_mm`` outward."""

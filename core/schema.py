@@ -284,12 +284,14 @@ class Environment:
     ballast_density_kg_m3: float = p(11340.0, 2000.0, 20000.0, "Density of the trim ballast's metal (the shot set "
                                        "in epoxy: catalogues/ballast.toml, layout/ballast_plan.py)",
                                        "Lead (11.34 g/cm^3)")
-    flotation_foam_segments: int = p(2, 0, 8, "Flooded hull segments, from hull.flooded_from_joint aft, that get a "
+    flotation_foam_segments: int = p(3, 0, 8, "Flooded hull segments, from hull.flooded_from_joint aft, that get a "
                                      "block of closed-cell foam glued into their lower half under the cables "
                                      "(the lift a fish heavier than its displacement needs; the lead then trims "
                                      "what is left). 0: none",
                                      "Design choice: the fasteners, tubes and cables of a buildable fish weigh "
-                                     "more than the sealed head's spare displacement (exports/water.py)")
+                                     "more than the sealed head's spare displacement (exports/water.py); the third "
+                                     "block lifts the tail so the trim lead can level the fish with the wiring's "
+                                     "leads weighed (with two, it would sit 14 mm ahead of the nose)")
     foam_density_kg_m3: float = p(100.0, 30.0, 900.0, "Density of the flotation foam",
                                   "Closed-cell PVC foam for marine cores, e.g. Divinycell H100 (100 kg/m^3, "
                                   "DIAB datasheet); it does not soak up water, unlike open-cell or EPS foam")

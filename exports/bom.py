@@ -14,6 +14,7 @@ since each has its own cut length). Sources of the lines:
 * PTFE tube pieces by cut length (:func:`swiftfin.cad.cables.tube_runs`, mouth to seat), the total to buy, and the
   epoxy that bonds them in (``catalogues/adhesives.toml``);
 * what closes the dry wall (:func:`seal_lines`): the cable glands' sleeves and grease, the screws' sealant;
+* the wiring harness's leads by cut length and their connectors (:func:`harness_lines`);
 * extra lines a part family declares (``PartSpec.meta["bom"]``: a list of dicts with the BomLine fields), e.g. a
   tensioner's bought pieces;
 * the trim ballast (lead), from the mass model when the build computed one.
@@ -224,6 +225,24 @@ def declared_lines(specs) -> list[BomLine]:
     return out
 
 
+def harness_lines(p: Params) -> list[BomLine]:
+    """The wiring harness (layout/harness_plan.py): each lead by its cut length, and the connectors crimped on."""
+    from swiftfin.layout.harness_plan import harness
+    out, housings = [], {}
+    for h in harness(p):
+        s = h.spec
+        side = "+y" if h.side > 0 else "-y"
+        what = f"motor_{h.joint} to the electronics" if h.joint else "the battery to the electronics"
+        item = "Motor leads (the motor's own, trimmed)" if h.joint else "Battery snap with leads (PP3)"
+        out.append(BomLine(item, f"{s.wires} x {s.wire_od_mm:g} mm wires, cut {h.cut_length_mm:.0f} mm", 1, "pcs",
+                           f"{what}, {side} side (route {h.length_mm:.0f} mm + {100 * s.service_fraction:.0f} % + "
+                           f"2 x {s.termination_mm:g} mm)", "layout/harness_plan.py, catalogues/wiring.toml"))
+        housings.setdefault(s.connector, []).append(h.label)
+    for connector, labels in housings.items():
+        out.append(BomLine("Connector", connector, len(labels), "pcs", _where(labels), "catalogues/wiring.toml"))
+    return out
+
+
 def ballast_lines(mass_properties: dict | None) -> list[BomLine]:
     trim = (mass_properties or {}).get("trim") or {}
     if not trim.get("enabled") or not trim.get("possible", True) or not trim.get("mass_kg") or trim.get("placed"):
@@ -237,7 +256,7 @@ def ballast_lines(mass_properties: dict | None) -> list[BomLine]:
 def bom_lines(p: Params, specs, fasteners, mass_properties: dict | None = None) -> list[BomLine]:
     """Every bought item of the build (see the module docstring)."""
     return (bought_part_lines(p, specs) + fastener_lines(fasteners) + cable_lines(p) + crimp_lines(p)
-            + tube_lines(p) + seal_lines(p) + declared_lines(specs) + ballast_lines(mass_properties))
+            + tube_lines(p) + seal_lines(p) + harness_lines(p) + declared_lines(specs) + ballast_lines(mass_properties))
 
 
 def bom_csv(lines) -> str:

@@ -6,7 +6,8 @@ inserts, nuts, pins of the fastener records) are short rods at their places (:fu
 (:func:`ptfe_tube_masses`) are thin-walled rods of ``guides.ptfe_tube_od_mm`` / ``ptfe_tube_id_mm`` and
 ``guides.ptfe_density_kg_m3`` along the tubes of ``cad.cables.tube_runs`` (the guide channels and the bulkhead
 bores, mouth to seat: the same pieces as the bill of materials), one ``ptfe_tube_link_<j>`` entry per link that
-holds tubes. Pieces are given to
+holds tubes. The wiring harness's **leads** (:func:`harness_masses`) are rods along their routes, one ``harness``
+entry on the head. Pieces are given to
 links by their station (:func:`link_of_station`).
 """
 from __future__ import annotations
@@ -107,6 +108,33 @@ def ptfe_tube_masses(p: Params) -> list[PartMass]:
                             (), 0.0, 0.0, 0.0, 0.0, it, it, None, None,
                             (tuple(pts.min(axis=0) - pad), tuple(pts.max(axis=0) + pad))))
     return out
+
+
+def harness_masses(p: Params, leads=None) -> list[PartMass]:
+    """The wiring harness's leads (:func:`swiftfin.layout.harness_plan.harness`) as one ``harness`` entry on the
+    head: each lead's cut length (route, service allowance, terminations) at its catalogue linear density, spread
+    along its route as thin rods of its diameter. Empty when the design has no harness."""
+    from swiftfin.layout.harness_plan import harness
+    leads = harness(p) if leads is None else leads
+    items, ends = [], []
+    for h in leads:
+        pts = np.asarray(h.centre_line_mm, float)
+        seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+        per_mm = h.mass_kg / float(seg.sum())
+        r = units.length_m(h.diameter_mm / 2)
+        for a, b, length in zip(pts[:-1], pts[1:], seg):
+            if length > 0:
+                items.append(rod_inertial(per_mm * float(length), units.length_m(a), units.length_m(b), r))
+        ends += [units.length_m(pts.min(axis=0) - h.diameter_mm / 2),
+                 units.length_m(pts.max(axis=0) + h.diameter_mm / 2)]
+    if not items:
+        return []
+    it = combine(items)
+    box = np.array(ends)
+    return [PartMass("harness", 0, "harness", False,
+                     f"line mass: {len(leads)} leads (catalogues/wiring.toml: copper and PVC of their wires) of their "
+                     "cut lengths along the routes of layout/harness_plan.py", (), 0.0, 0.0, 0.0, 0.0, it, it, None,
+                     None, (tuple(box.min(axis=0)), tuple(box.max(axis=0))))]
 
 
 def fastener_masses(p: Params, fasteners=None) -> list[PartMass]:

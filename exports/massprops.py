@@ -50,7 +50,7 @@ from swiftfin.exports.print_model import (  # noqa: F401
     _valid, bridge_flow_factor, core_key, find_core, layer_core, memoized, occ_core, part_mass, rotation_matrix,
     to_manifold, voxel_core)
 from swiftfin.exports.line_masses import (  # noqa: F401
-    cable_masses, fastener_masses, link_of_station, ptfe_tube_masses,
+    cable_masses, fastener_masses, harness_masses, link_of_station, ptfe_tube_masses,
     rod_inertial)
 from swiftfin.exports.water import (  # noqa: F401
     _ballast_part, _fin_outside_volume, _outside_piece, behind_dry_wall, envelope_inertial, envelope_section_mm, envelope_volume_mm3,
@@ -174,6 +174,7 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
     out += cable_masses(params)
     out += ptfe_tube_masses(params)
     out += fastener_masses(params)
+    out += harness_masses(params)
     links_idx = sorted({pt.link for pt in out})
     if links_idx != list(range(len(links_idx))) or len(links_idx) != params.joints.count + 1:
         raise BuildError(f"links: parts belong to links {links_idx}; expected 0..{params.joints.count} "
@@ -253,10 +254,11 @@ def mass_properties(params: Params, parts, meshes: dict | None = None,
         elif trim.get("possible"):
             j = int(trim["link"])
             carried = [pt.inertial for pt in out if pt.link == j] + ([water[j]] if water[j] is not None else [])
-            # clear of the solid parts inside (the hull's room is in z_room_m; cables, tubes and fasteners are
+            # clear of the solid parts inside (the hull's room is in z_room_m; cables, tubes, leads and fasteners are
             # summed per link here, their boxes the link's, and none runs through the nose's middle)
             keep = [(pt.label, pt.bbox_m) for pt in out if pt.link == j
-                    and pt.family not in ("hull", "fin", "cable", "ptfe", "fastener", "ballast")]
+                    and pt.family not in ("hull", "fin", "cable", "ptfe", "fastener", "ballast",
+                                                                 "harness")]
             trim = ballast_height(trim, combine(carried), keep, params.print.clearance_assembly_mm * 1e-3)
             if trim.get("possible"):
                 out.append(_ballast_part(params, trim))

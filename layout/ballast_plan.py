@@ -110,10 +110,14 @@ def _window(s: np.ndarray, area: np.ndarray, moment: np.ndarray, volume: float, 
 
 
 def plan_ballast(p: Params, mass_kg: float, target_x_mm: float, wanted_z_mm: float, link: int,
-                 keep_out=()) -> tuple[BallastPlan | None, str]:
+                 keep_out=(), prefer: tuple | None = None) -> tuple[BallastPlan | None, str]:
     """The fill of ``mass_kg`` (module docstring) for a trim that wants its centre of mass at body x
     ``target_x_mm`` and height ``wanted_z_mm`` in link ``link``; ``keep_out``: ``(label, (x0, y0, z0), (x1, y1,
-    z1))`` boxes in mm of the parts inside. Returns (plan, "") or (None, the reason no fill fits)."""
+    z1))`` boxes in mm of the parts inside. ``prefer``: (piece, sigma, level) of an earlier plan, kept whenever it
+    centres the fill as well as any other (the height's criterion then does not choose again: the application's
+    rounds of trim and plan settle instead of flipping between two levels a grid step apart, each moving the dams
+    and so the trim; seen 2026-11-28 with the fill between two dams). Returns (plan, "") or (None, the reason no
+    fill fits)."""
     rho = fill_density_kg_m3(p)
     volume = mass_kg / rho * 1e9
     gap, dam_t, clr = bond_gap_mm(p), wall_mm(p), p.print.clearance_assembly_mm
@@ -146,7 +150,8 @@ def plan_ballast(p: Params, mass_kg: float, target_x_mm: float, wanted_z_mm: flo
                     met.update(blocked)
                     continue
                 fitted = True
-                key = (round(abs(sc - s_t), 1), abs(sigma * zc - wanted_z_mm))
+                kept = prefer is not None and (pc.name, sigma) == tuple(prefer[:2]) and abs(level - prefer[2]) < 1e-9
+                key = (round(abs(sc - s_t), 1), not kept, abs(sigma * zc - wanted_z_mm))
                 if best is None or key < best[0]:
                     best = (key, pc, sigma, s0, s1, dams, float(level), v, sc, zc)
             if not fitted:

@@ -383,7 +383,7 @@ def steps_section(steps: dict | None, pics: dict | None) -> str:
         if s.get("fasteners"):
             facts.append(f"<b>Fasteners</b>: {_fastener_summary(s['fasteners'])}")
         if s.get("threads"):
-            facts.append("<b>Cables and tubes</b>: " + ", ".join(f"<code>{esc(q)}</code>" for q in s["threads"]))
+            facts.append("<b>Cables, tubes and leads</b>: " + ", ".join(f"<code>{esc(q)}</code>" for q in s["threads"]))
         pic = (pics or {}).get(s["number"])
         alt = f"assembly step {int(s['number'])}, exploded"
         fig = f'<figure class="wide">{img(pic, alt)}</figure>' if pic else ""

@@ -15,17 +15,20 @@ PASSES = 6
 """Most rounds of trim -> fill -> dams -> trim; the default design settles in 3."""
 SETTLED_MM = 0.01
 """The rounds stop when the fill's ends move less than this [mm]."""
+LEAD_BOX_SAMPLES = 8
+"""Samples of a lead's centre line per keep-out box."""
 KEEP_OUT_SKIPPED = ("hull", "fin", "cable", "ptfe", "fastener", "seal", "ballast")
 """Families whose parts the fill need not keep clear of by their boxes (the shell it is poured against, and what
 runs along the shell or lies in its seam)."""
 
 
 def _line_boxes(p: Params) -> list:
-    """The boxes of the cables' pieces and the PTFE tubes at rest, ``(label, link, lo, hi)`` in mm: they run along
-    the shell, where a fill is poured (cad/cables.py)."""
+    """The boxes of the cables' pieces, the PTFE tubes and the wiring harness's leads at rest, ``(label, link, lo,
+    hi)`` in mm: they run along the shell, where a fill is poured (cad/cables.py, layout/harness_plan.py)."""
     import numpy as np
 
     from swiftfin.cad.cables import cable_pieces, tube_runs
+    from swiftfin.layout.harness_plan import harness
     out = []
     for c in cable_pieces(p):
         pts = np.asarray(c.points_mm, float)
@@ -33,6 +36,11 @@ def _line_boxes(p: Params) -> list:
     for t in tube_runs(p):
         pts = np.asarray(t.points_mm, float)
         out.append((t.label, t.link, tuple(pts.min(0) - t.od_mm / 2), tuple(pts.max(0) + t.od_mm / 2)))
+    for h in harness(p):          # the leads, a box per few samples of their centre lines (one box would fill the head)
+        pts = np.asarray(h.centre_line_mm, float)
+        for k in range(0, len(pts) - 1, LEAD_BOX_SAMPLES):
+            chunk = pts[k:k + LEAD_BOX_SAMPLES + 1]
+            out.append((h.label, 0, tuple(chunk.min(0) - h.diameter_mm / 2), tuple(chunk.max(0) + h.diameter_mm / 2)))
     return out
 
 
@@ -79,7 +87,8 @@ def ballast_specs(p: Params, specs, meshes: dict | None = None, memo=None, jobs:
                 if s.link == trim["link"] and s.family not in KEEP_OUT_SKIPPED] + [
             (label, lo, hi) for label, link, lo, hi in _line_boxes(p) if link == trim["link"]]
         plan, why = plan_ballast(p, trim["mass_kg"], 1000 * trim["x_m"],
-                                 1000 * trim.get("z_wanted_m", trim.get("z_m", 0.0)), int(trim["link"]), keep)
+                                 1000 * trim.get("z_wanted_m", trim.get("z_m", 0.0)), int(trim["link"]), keep,
+                                 prefer=None if plan is None else (plan.piece, plan.sigma, plan.z_level_mm))
         if plan is None:
             raise BuildError(f"trim ballast: {1000 * trim['mass_kg']:.1f} g of lead levels the fish at s = "
                              f"{-1000 * trim['x_m']:.1f} mm, but no fill of lead shot in epoxy fits in link "

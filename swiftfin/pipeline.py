@@ -350,21 +350,23 @@ def _on_solids(cache: FamilyCache | None, name: str, modules: tuple[str, ...], p
 def check_cables_built(result: BuildResult, placed=None, passed=None, progress=None,
                        cache: FamilyCache | None = None) -> dict:
     """The cables and PTFE tubes in the assembly (cad/cables.py): each swept along its route, moving with its links,
-    against every built part over the joints' range (the parts among themselves are the rigid check's), and every
+    against every built part over the joints' range (the parts among themselves are the rigid check's), with the
+    wiring harness's leads (layout/harness_plan.py, on the head) among them, and every
     tube seated on its printed shoulder with its mouth open and held both ways (``check_tube_seats``). Only a
     whole build: the cables run through the parts of every family. BuildError names the cable or tube, the part,
     the gap and the joint angles, or the tube and its end."""
     from swiftfin.cad.assembly import check_assembly
-    from swiftfin.cad.cables import cable_parts, check_tube_seats, tube_runs
+    from swiftfin.cad.cables import cable_parts, check_tube_seats, harness_parts, tube_runs
 
     if not set(FAMILIES) <= set(result.family_times_s):
         return {}
     if progress:
-        progress("  checking the cables and PTFE tubes against every part over the joints' range ...")
+        progress("  checking the cables, PTFE tubes and leads against every part over the joints' range ...")
     p = result.params
     placed = placed_parts(result) if placed is None else placed
     tubes = tube_runs(p)
-    meshes = cable_parts(p, None, tubes)
+    leads = harness_parts(p)
+    meshes = cable_parts(p, None, tubes) + leads
     stats = check_assembly(p, placed + meshes, progress=progress, passed=passed, focus={q.label for q in meshes})
     built = [q.label for q in placed]
     held = [t for t in tubes if any(lb == t.holder or lb.startswith(t.holder + "_") for lb in built)]
@@ -374,7 +376,7 @@ def check_cables_built(result: BuildResult, placed=None, passed=None, progress=N
     holders = [q for q in placed if q.link in links]
     seats = _on_solids(cache, "check-tube-seats", ("swiftfin.cad.cables",), p, holders,
                        lambda view: check_tube_seats(view, holders, held), records=held) if held else {}
-    return {"cable_pieces": len(meshes) - len(tubes), "tubes": len(tubes), **stats,
+    return {"cable_pieces": len(meshes) - len(tubes) - len(leads), "tubes": len(tubes), "leads": len(leads), **stats,
             **{k: v for k, v in seats.items() if k.startswith("worst")}}
 
 
@@ -669,8 +671,9 @@ def summary_table(result: BuildResult) -> str:
                      f"builds of the same parts)")
     cs = result.cable_stats
     if cs:
-        lines.append(f"cables and tubes clear: {cs['cable_pieces']} cable pieces and {cs['tubes']} PTFE tubes keep "
-                     f"their clearances to every part over the joints' range ({cs['pairs']} pairs, "
+        lines.append(f"cables, tubes and leads clear: {cs['cable_pieces']} cable pieces, {cs['tubes']} PTFE tubes "
+                     f"and {cs.get('leads', 0)} leads (wiring harness) keep their clearances to every part over the "
+                     f"joints' range ({cs['pairs']} pairs, "
                      f"{cs['contact_pairs']} declared contacts, {cs['pairs_remembered']} remembered)")
     if cs.get("worst_tube"):
         lines.append(f"PTFE tubes seated: every tube on its printed shoulder with its mouth open, held both ways "

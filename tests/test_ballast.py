@@ -64,20 +64,25 @@ def _manifold(solid, p):
     return manifold_of(solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
 
 
-def test_fill_and_dam_lie_in_the_hollow_clear_of_the_parts_inside(default_params, by_label, fill):
-    """Against the half it is poured into, the fill and its dam touch (the bond gap) but do not overlap, and they keep
-    print.clearance_assembly_mm from the electronics under them; the fill starts at the nose cap, the dam stands
-    DAM_RISE_MM proud of the level."""
+def test_fill_and_dams_lie_in_the_hollow_clear_of_the_parts_inside(default_params, by_label, fill):
+    """Against the half it is poured into, the fill and its dams touch (the bond gap) but do not overlap, and they
+    keep print.clearance_assembly_mm from the electronics under them; each end of the fill is a dam or the nose cap,
+    the dams stand DAM_RISE_MM proud of the level."""
     p, plan = default_params, fill.meta["plan"]
-    dam = by_label[DAM_LABEL]
+    dams = [by_label[lb] for lb in by_label if lb.startswith(DAM_LABEL)]
+    assert len(dams) == len(plan.dams) >= 1
     shell = _manifold(by_label[plan.bonded_to].solid, p)
-    for part in (fill, dam):
+    for part in (fill, *dams):
         assert (_manifold(part.solid, p) ^ shell).volume() < 0.5, part.label
     assert plan.z_level_mm - plan.z_dam_mm == pytest.approx(DAM_RISE_MM)
     box = by_label["electronics"].solid.bounding_box()
-    dam_edge = dam.solid.bounding_box().min.Z if plan.sigma > 0 else -dam.solid.bounding_box().max.Z
-    assert dam_edge >= box.max.Z + p.print.clearance_assembly_mm - 1e-6
-    assert len(plan.dams) == 1 and plan.dams[0][0] == pytest.approx(plan.s_mm[1])    # the cap closes the fore end
+    for dam in dams:
+        dam_edge = dam.solid.bounding_box().min.Z if plan.sigma > 0 else -dam.solid.bounding_box().max.Z
+        assert dam_edge >= box.max.Z + p.print.clearance_assembly_mm - 1e-6, dam.label
+    if len(plan.dams) == 1:                       # the nose cap closes the fore end, the dam the aft
+        assert plan.dams[0][0] == pytest.approx(plan.s_mm[1])
+    else:                                         # a dam at each end (2026-11-28, the fill above the electronics)
+        assert plan.dams[0][1] == pytest.approx(plan.s_mm[0]) and plan.dams[1][0] == pytest.approx(plan.s_mm[1])
 
 
 def test_the_built_fish_is_neutral_and_says_what_the_fill_misses(default_robot, default_params, fill):

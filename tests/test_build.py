@@ -172,7 +172,7 @@ def test_default_design_builds_end_to_end(env, capsys):
     rc = main(["build", str(DEFAULT_DESIGN), "--out", "build"])
     out, err = capsys.readouterr()
     assert rc == 0, err[-3000:]
-    assert "cables and tubes clear:" in out                       # the cables' and tubes' proof ran in the build
+    assert "cables, tubes and leads clear:" in out                # the cables', tubes' and leads' proof ran
     assert "PTFE tubes seated: every tube on its printed shoulder" in out    # and every tube's seat was measured
     assert "every touching pair of the contact table joined" in out         # and how every mating pair is held
     manifest = json.loads((env / "build" / "manifest.json").read_text())

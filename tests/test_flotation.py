@@ -19,10 +19,12 @@ def _with_env(**kw) -> Params:
     return dataclasses.replace(P, environment=dataclasses.replace(P.environment, **kw))
 
 
-def test_default_design_has_a_block_in_each_of_the_first_two_flooded_segments():
+def test_default_design_has_a_block_in_each_of_the_first_three_flooded_segments():
+    """Three since the wiring was weighed (2026-11-28): with two the trim lead would sit ahead of the nose."""
     blocks = foam_blocks(P)
-    assert [b.link for b in blocks] == [P.hull.flooded_from_joint, P.hull.flooded_from_joint + 1]
-    assert [b.glued_to for b in blocks] == ["hull_body_1_lower", "hull_body_2_lower"]
+    assert P.environment.flotation_foam_segments == 3
+    assert [b.link for b in blocks] == [P.hull.flooded_from_joint + k for k in range(3)]
+    assert [b.glued_to for b in blocks] == ["hull_body_1_lower", "hull_body_2_lower", "hull_body_3_lower"]
 
 
 def test_block_sits_under_every_cable_inside_the_hull_and_between_its_joints():

@@ -73,6 +73,7 @@ def test_files_written(built):
     assert labels - {pt.label for pt in parts} == ({c.label for c in massprops.cable_masses(p)}
                                                    | {t.label for t in massprops.ptfe_tube_masses(p)}
                                                    | {f.label for f in massprops.fastener_masses(p)}
+                                                   | {h.label for h in massprops.harness_masses(p)}
                                                    | ({"trim_ballast"} if data["trim"].get("possible")
                                                       and not data["trim"].get("placed") else set()))
     assert sum(lk["mass_kg"] for lk in data["links"]) == pytest.approx(data["total"]["mass_kg"], rel=1e-12)
