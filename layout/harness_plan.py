@@ -22,8 +22,8 @@ battery low under the middle two):
   beside the electronics' cradle before reaching it, runs forward, rises and turns in to the electronics' side
   face, ahead of where the motor leads come in.
 
-What holds a lead along its run is not designed: it lies where its route says (lace the leads of a side together
-and to the motor mounts' bosses with waxed lacing cord); the connectors are inside the components' boxes. The route
+What holds a lead along its run is not designed: it lies where its route says (lace the leads of a side
+together with waxed lacing cord; nothing printed holds them); the connectors are inside the components' boxes. The route
 is proved clear of every part by the assembly check (:func:`swiftfin.pipeline.check_cables_built`), which refuses a
 build whose leads do not fit and names the lead, the part and the gap.
 """
