@@ -83,14 +83,18 @@ class RuleContext:
 
     def __init__(self, params: Params, mass_properties: MassProperties | None = None,
                  part_bboxes_mm: dict[str, tuple[float, float, float]] | None = None,
-                 link_masses: tuple[LinkMass, ...] | None = None, calibration: Calibration | None = None):
+                 link_masses: tuple[LinkMass, ...] | None = None, calibration: Calibration | None = None,
+                 print_records: dict | None = None):
         """``calibration``: measured values (core.calibration); its revised design keys must already be in
-        ``params`` (:meth:`Calibration.revised_params`), its hinge damping and friction join the loads here."""
+        ``params`` (:meth:`Calibration.revised_params`), its hinge damping and friction join the loads here.
+        ``print_records``: the built printed parts' :class:`swiftfin.design_rules.printing.PrintRecord` by label
+        (the printability rules read them)."""
         self.p = params
         self.mass_properties = mass_properties
         self.part_bboxes_mm = part_bboxes_mm
         self.link_masses = link_masses
         self.calibration = calibration
+        self.print_records = print_records
 
     @cached_property
     def loads(self) -> JointLoads:
@@ -312,6 +316,74 @@ def layout_part_boxes_mm(p: Params) -> dict[str, tuple[float, float, float]]:
     d = spool_dims(p)
     out["spool"] = (2 * d.flange_radius_mm, 2 * d.flange_radius_mm, d.top_mm - d.hub_bottom_mm)
     return out
+
+
+PRINT_SOURCE = "exports/printability.py on the built parts' meshes in their print orientations"
+NEEDS_BUILD = "needs the built parts: swiftfin check --build DIR (a build folder), or the report of a build"
+
+
+def support_area(ctx: RuleContext) -> Finding:
+    """``print.support``: the overhang the slicer must support, summed over the printed parts, each in the
+    orientation the build chose for least support. A number to know, not a pass/fail (INFO)."""
+    recs = ctx.print_records
+    if not recs:
+        return not_evaluated("print.support", PRINT_SOURCE, NEEDS_BUILD, "mm^2")
+    total = sum(r.support_area_mm2 for r in recs.values())
+    top = sorted(recs.values(), key=lambda r: -r.support_area_mm2)[:3]
+    worst = ", ".join(f"{r.label} {r.support_area_mm2:.0f}" for r in top if r.support_area_mm2 > 0)
+    return Finding("print.support", float(total), None, None, Severity.INFO,
+                   f"overhang steeper than print.support_angle_deg = {ctx.p.print.support_angle_deg:g} deg from the "
+                   f"vertical, projected on the bed; " + PRINT_SOURCE, "mm^2", "",
+                   f"{sum(r.support_area_mm2 > 0 for r in recs.values())} of {len(recs)} printed parts need "
+                   f"support" + (f"; most: {worst} mm^2" if worst else ""))
+
+
+def _count(rule_id: str, n: int, source: str, unit: str, detail: str, above: Severity = Severity.FAIL) -> Finding:
+    """A count that must be zero: no relative margin to give (None), PASS at zero, ``above`` otherwise."""
+    return Finding(rule_id, float(n), 0.0, None, Severity.PASS if n == 0 else above, source, unit, "<=", detail)
+
+
+def thin_walls(ctx: RuleContext) -> Finding:
+    """``print.thin_walls``: regions thinner than two perimeters (two layers where the thickness runs along the
+    print's vertical; one line width for a load-free web between two bores), over every printed part."""
+    recs = ctx.print_records
+    if not recs:
+        return not_evaluated("print.thin_walls", PRINT_SOURCE, NEEDS_BUILD, "regions")
+    lw = ctx.p.print.line_width_mm
+    walls = [(r.label, w) for r in recs.values() for w in r.walls]
+    src = f"FDM: a wall needs two perimeters ({2 * lw:g} mm); the ray-cast wall probe, " + PRINT_SOURCE
+    if not walls:
+        return _count("print.thin_walls", 0, src, "regions", f"none on the {len(recs)} printed parts")
+    lb, w = min(walls, key=lambda t: t[1].thickness_mm / t[1].limit_mm)
+    per: dict[str, int] = {}
+    for label, _ in walls:
+        per[label] = per.get(label, 0) + 1
+    return _count("print.thin_walls", len(walls), src, "regions",
+                  f"on {len(per)} of {len(recs)} printed parts (" + ", ".join(f"{k} {v}" for k, v in per.items())
+                  + f"); thinnest against its limit: {lb}, {w.text()}")
+
+
+def long_bridges(ctx: RuleContext) -> Finding:
+    """``print.bridges``: ceilings spanning more than ``print.max_bridge_mm`` between edges with material below
+    (or with no such edge). WARN, not FAIL: the slicer supports what it cannot bridge (it is in ``print.support``)."""
+    recs = ctx.print_records
+    if not recs:
+        return not_evaluated("print.bridges", PRINT_SOURCE, NEEDS_BUILD, "bridges")
+    limit = ctx.p.print.max_bridge_mm
+    found = [(r.label, b) for r in recs.values() for b in r.bridges]
+    src = f"longest bridge print.max_bridge_mm = {limit:g} mm; " + PRINT_SOURCE
+    if not found:
+        return _count("print.bridges", 0, src, "bridges", f"none on the {len(recs)} printed parts")
+    spans = [(lb, b) for lb, b in found if b.span_mm is not None]
+    hanging = len(found) - len(spans)
+    detail = f"on {len({lb for lb, _ in found})} of {len(recs)} printed parts"
+    if spans:
+        lb, b = max(spans, key=lambda t: t[1].span_mm)
+        detail += (f"; longest: {lb}, {b.span_mm:.1f} mm over {b.area_mm2:.0f} mm^2 at "
+                   f"({', '.join(f'{v:.1f}' for v in b.at_mm)}) mm")
+    if hanging:
+        detail += f"; {hanging} with no edge on material below (support starts them)"
+    return _count("print.bridges", len(found), src, "bridges", detail, above=Severity.WARN)
 
 
 def bed_fit(ctx: RuleContext) -> Finding:
@@ -604,6 +676,9 @@ RULES: list[Rule] = [
     Rule("print.spool_flange", "print",
          _wall("print.spool_flange", lambda p: p.spool.flange_thickness_mm, "spool flange")),
     Rule("print.bed_fit", "print", bed_fit),
+    Rule("print.support", "print", support_area),
+    Rule("print.thin_walls", "print", thin_walls),
+    Rule("print.bridges", "print", long_bridges),
     Rule("heat.dry_compartment", "heat", dry_compartment_temperature),
     Rule("heat.motor_mount", "heat", motor_mount_temperature),
     Rule("power.run_time", "power", run_time),
@@ -643,8 +718,10 @@ def mass_properties_from_json(mp: dict | None) -> "MassProperties | None":
 
 
 def design_findings(p: Params, mass_properties_json: dict | None = None,
-                    part_bboxes_mm: dict | None = None, calibration: Calibration | None = None) -> list:
+                    part_bboxes_mm: dict | None = None, calibration: Calibration | None = None,
+                    print_records: dict | None = None) -> list:
     """Every rule's finding for a design: what ``swiftfin check`` prints and the report shows. The float rules
     need a build's ``mass_properties.json`` content; the bed-fit rule uses the built parts' print boxes if given."""
     return run_rules(RuleContext(p, mass_properties=mass_properties_from_json(mass_properties_json),
-                                 part_bboxes_mm=part_bboxes_mm or None, calibration=calibration))
+                                 part_bboxes_mm=part_bboxes_mm or None, calibration=calibration,
+                                 print_records=print_records or None))

@@ -78,7 +78,8 @@ def as_report_part(part) -> ReportPart:
     spec, exp = part.spec, part.export
     return ReportPart(spec.label, spec.family, int(spec.link), bool(spec.printed), np.asarray(exp.mesh.vertices),
                       np.asarray(exp.mesh.faces), tuple(float(v) for v in exp.print_size_mm), float(exp.volume_mm3),
-                      tuple(float(v) for v in spec.print_rotation), spec.mass_kg,
+                      tuple(float(v) for v in (exp.print_rotation if getattr(exp, "print_rotation", None)
+                                               is not None else spec.print_rotation)), spec.mass_kg,
                       getattr(exp, "support_area_mm2", None), tuple(getattr(exp, "orientations", ()) or ()),
                       tuple(getattr(exp, "thin_walls", ()) or ()), tuple(getattr(exp, "bridges", ()) or ()))
 

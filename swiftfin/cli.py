@@ -46,10 +46,12 @@ COMMANDS: dict[str, Command] = {
         "swimming load, cable strength and stretch, slack, stepper pull-out, Strouhal number, print bed, and with "
         "a build's mass properties the floating rules) and prints a table of findings. Exit 0 when no rule fails, "
         "1 when one does, 2 for a bad input file. Needs no CAD kernel. With --calibration, the rules use a joint's "
-        "measured cable stiffness, hinge damping and friction.",
+        "measured cable stiffness, hinge damping and friction; with --build, a build folder's mass properties and "
+        "its printed parts' support, thin walls and bridges.",
         "swiftfin check\n"
         "swiftfin check --calibration fit_joint/calibration.toml\n"
         "swiftfin check my_fish.toml --json check.json\n"
+        "swiftfin check --build build\n"
         "swiftfin check --mass-properties build/mass_properties.json --loads"),
     "audit": Command(
         "recompute the paper's derived numbers and say which hold",

@@ -473,6 +473,10 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
         entry = {"label": b.spec.label, "family": b.spec.family, "link": b.spec.link, "printed": b.spec.printed,
                  "volume_mm3": round(b.export.volume_mm3, 3),
                  "print_size_mm": [round(v, 3) for v in b.export.print_size_mm], "files": []}
+        rec = print_record(b)
+        if rec is not None:           # what `swiftfin check --build` and `swiftfin report` read back
+            entry["print_rotation"] = rec.to_dict()["rotation_deg"]
+            entry["print"] = rec.to_dict()
         for kind in FILE_KINDS:
             data = b.export.files.get(kind)
             if data is None:
@@ -797,6 +801,22 @@ def swim_results(mjcf_path: Path, params: Params, jobs: int | None = 1, duration
              "slip_reactive": by[(f, True)] / (f * lam)} for f in SWIM_FREQUENCIES_HZ]
 
 
+def print_record(part):
+    """The printability rules' record (:class:`swiftfin.design_rules.printing.PrintRecord`) of a printed part: a
+    ``BuiltPart``'s export or a ``ReportPart``; None for a bought part or one whose support was not computed."""
+    from swiftfin.design_rules.printing import PrintRecord, Span, Wall
+
+    exp = getattr(part, "export", part)
+    label = part.spec.label if hasattr(part, "spec") else part.label
+    printed = part.spec.printed if hasattr(part, "spec") else part.printed
+    if not printed or getattr(exp, "support_area_mm2", None) is None or exp.print_rotation is None:
+        return None
+    walls = tuple(Wall(w.thickness_mm, w.limit_mm, w.area_mm2, tuple(w.at_mm), getattr(w, "kind", "wall"))
+                  for w in exp.thin_walls)
+    spans = tuple(Span(None if b.hanging else b.span_mm, b.limit_mm, b.area_mm2, tuple(b.at_mm)) for b in exp.bridges)
+    return PrintRecord(label, tuple(float(a) for a in exp.print_rotation), float(exp.support_area_mm2), walls, spans)
+
+
 def report_findings(params: Params, parts, mass_properties: dict | None, calibration=None,
                     dry_report=None) -> tuple[list, list]:
     """What the report shows and does not compute: the design rules' findings (with the build's mass properties
@@ -809,7 +829,8 @@ def report_findings(params: Params, parts, mass_properties: dict | None, calibra
 
     rparts = [as_report_part(x) for x in parts] if parts else []
     boxes = {x.label: x.print_size_mm for x in rparts if x.printed and x.print_size_mm}
-    findings = design_findings(params, mass_properties, boxes, calibration)
+    records = {r.label: r for r in map(print_record, rparts) if r is not None}
+    findings = design_findings(params, mass_properties, boxes, calibration, records)
     if dry_report is not None:
         findings = [*findings, built_gland_finding(params, dry_report.glands)]
     gaskets = [x.spec for x in parts or () if hasattr(x, "spec") and x.spec.family == "seal"]

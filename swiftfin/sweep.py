@@ -18,7 +18,7 @@ Layout of ``OUT`` (only these are written; nothing else in the folder is touched
 * ``results.csv``: every design's row, in the order given, rewritten at the end of each run.
 
 Rows: ``design, params_file, params_sha256, stage, status (ok | refused | failed | error), message, verdict,
-n_pass, n_warn, n_fail, failing, total_mass_kg, displaced_volume_l, wall_s``.
+n_pass, n_info, n_warn, n_fail, failing, total_mass_kg, displaced_volume_l, wall_s``.
 """
 from __future__ import annotations
 
@@ -37,8 +37,8 @@ from swiftfin.outdir import write_text_atomic
 from swiftfin.progress import bar
 
 STAGES = ("check", "build")
-COLUMNS = ("design", "params_file", "params_sha256", "stage", "status", "message", "verdict", "n_pass", "n_warn",
-           "n_fail", "failing", "total_mass_kg", "displaced_volume_l", "wall_s")
+COLUMNS = ("design", "params_file", "params_sha256", "stage", "status", "message", "verdict", "n_pass", "n_info",
+           "n_warn", "n_fail", "failing", "total_mass_kg", "displaced_volume_l", "wall_s")
 
 
 @dataclass(frozen=True)
@@ -90,7 +90,7 @@ def run_design(path: str, name: str, out_root: str, stage: str, cache_dir: str |
     try:
         row["params_sha256"] = _sha256(path)
         p = load_design(path)
-        mp = None
+        mp, records = None, None
         if stage == "build":
             from swiftfin.cache import FamilyCache
             from swiftfin.pipeline import build
@@ -102,9 +102,13 @@ def run_design(path: str, name: str, out_root: str, stage: str, cache_dir: str |
             if mp is not None:
                 row["total_mass_kg"] = mp.total_mass_kg
                 row["displaced_volume_l"] = mp.displaced_volume_m3 * 1e3
-        findings = run_rules(RuleContext(p, mass_properties=mp))
+            from swiftfin.design_rules.printing import records_from_manifest
+            man = out / "manifest.json"
+            _, records = records_from_manifest(json.loads(man.read_text(encoding="utf-8")), str(man))
+        findings = run_rules(RuleContext(p, mass_properties=mp, print_records=records))
         sev = [f.severity for f in findings]
-        row.update(verdict=max(sev).name, n_pass=sev.count(Severity.PASS), n_warn=sev.count(Severity.WARN),
+        row.update(verdict=max(sev).name, n_pass=sev.count(Severity.PASS), n_info=sev.count(Severity.INFO),
+                   n_warn=sev.count(Severity.WARN),
                    n_fail=sev.count(Severity.FAIL),
                    failing=";".join(f.rule_id for f in findings if f.severity == Severity.FAIL))
     except ParamError as exc:

@@ -209,6 +209,18 @@ def test_default_design_builds_end_to_end(env, capsys):
     section = section[:section.index("</section>")]
     assert section.count("data:image/png;base64,") == sum(1 for s in steps if s["parts"])
     assert section.count("<h3>Step ") == len(steps)
+    # the printability rules from the folder (`swiftfin check --build`): every printed part has its record in the
+    # manifest, and the rules count the regions the build's summary counted from its exports (two paths)
+    assert main(["check", str(DEFAULT_DESIGN), "--build", "build", "--json", "check.json"]) == 1
+    by = {f["rule_id"]: f for f in json.loads((env / "check.json").read_text())["findings"]}
+    printed = [q for q in manifest["parts"] if q["printed"]]
+    assert all("print" in q and q["print_rotation"] == q["print"]["rotation_deg"] for q in printed)
+    walls = sum(len(q["print"]["thin_walls"]) for q in printed)
+    assert by["print.thin_walls"]["value"] == walls
+    assert (f"walls (ray-cast probe): {walls} region(s)" if walls else "walls: none under two perimeters") in out
+    assert by["print.support"]["severity"] == "INFO" and by["print.support"]["value"] == pytest.approx(
+        sum(q["print"]["support_area_mm2"] for q in printed), abs=0.01)
+    assert by["print.bridges"]["severity"] in ("PASS", "WARN") and by["float.level"]["severity"] != "NOT_EVALUATED"
     # a build without the cache (every solid made afresh in this process) lists the same files and hashes,
     # STEP included (fixed header dates, occurrence ids renumbered per file)
     assert main(["build", str(DEFAULT_DESIGN), "--out", "fresh", "--no-cache"]) == 0

@@ -108,3 +108,81 @@ def test_json_into_a_new_folder_and_unwritable_path(tmp_path, capsys):
     blocker.write_text("x")
     assert main(["check", str(DEFAULT_DESIGN), "--json", str(blocker / "check.json")]) == 2
     assert "cannot write" in capsys.readouterr().err
+
+
+def _build_folder(tmp_path, parts, mass=True):
+    d = tmp_path / "b"
+    d.mkdir()
+    (d / "manifest.json").write_text(json.dumps({"parts": parts}))
+    if mass:
+        total = {"mass_kg": 1.73, "com_m": [-0.174, 0, -0.0075], "cob_m": [-0.174, 0, 0.0001],
+                 "displaced_volume_m3": 1.73e-3}
+        (d / "mass_properties.json").write_text(json.dumps({"total": total}))
+    return str(d)
+
+
+def _printed(label, support, walls=(), bridges=()):
+    return {"label": label, "printed": True, "print_size_mm": [40, 30, 20],
+            "print": {"rotation_deg": [0, 0, 0], "support_area_mm2": support,
+                      "thin_walls": [{"thickness_mm": t, "limit_mm": lim, "area_mm2": 3.0, "at_mm": [-10, 2, 5],
+                                      "kind": "wall"} for t, lim in walls],
+                      "bridges": [{"span_mm": s, "limit_mm": 10.0, "area_mm2": 40.0, "at_mm": [-5, 0, 3]}
+                                  for s in bridges]}}
+
+
+def test_check_reads_a_build_folders_printability(tmp_path, capsys):
+    """`swiftfin check --build DIR`: the print rules from the manifest's records (support summed, INFO; a wall under
+    its limit fails, named with its part and place; bridges over the limit warn), the float rules from the folder's
+    mass properties, the bed rule from its boxes."""
+    d = _build_folder(tmp_path, [_printed("bracket", 120.5, walls=[(0.61, 0.9)], bridges=[23.0, None]),
+                                 _printed("lid", 30.0), {"label": "motor", "printed": False}])
+    out_json = tmp_path / "c.json"
+    assert main(["check", str(DEFAULT_DESIGN), "--build", d, "--json", str(out_json)]) == 1
+    by = {f["rule_id"]: f for f in json.loads(out_json.read_text())["findings"]}
+    assert by["print.support"]["severity"] == "INFO" and by["print.support"]["value"] == 150.5
+    assert "2 of 2 printed parts need support; most: bracket 120, lid 30 mm^2" in by["print.support"]["detail"]
+    tw = by["print.thin_walls"]
+    assert tw["severity"] == "FAIL" and tw["value"] == 1 and tw["limit"] == 0
+    assert "bracket, 0.61 mm wall (limit 0.90) over 3.0 mm^2 at (-10.0, 2.0, 5.0) mm" in tw["detail"]
+    br = by["print.bridges"]
+    assert br["severity"] == "WARN" and br["value"] == 2
+    assert "longest: bracket, 23.0 mm" in br["detail"] and "1 with no edge on material below" in br["detail"]
+    assert by["float.upright"]["severity"] == "PASS"
+    assert "40 x 30 x 20 mm on a" in by["print.bed_fit"]["detail"] and "built parts" in by["print.bed_fit"]["detail"]
+    # without a build the print rules say what they need
+    assert main(["check", str(DEFAULT_DESIGN), "--json", str(out_json)]) == 1
+    by = {f["rule_id"]: f for f in json.loads(out_json.read_text())["findings"]}
+    assert all(by[k]["severity"] == "NOT_EVALUATED" and "--build" in by[k]["detail"]
+               for k in ("print.support", "print.thin_walls", "print.bridges"))
+    # a clean build passes the walls and bridges
+    d2 = tmp_path / "clean"
+    d2.mkdir()
+    (d2 / "manifest.json").write_text(json.dumps({"parts": [_printed("lid", 0.0)]}))
+    assert main(["check", str(DEFAULT_DESIGN), "--build", str(d2), "--json", str(out_json)]) == 1
+    by = {f["rule_id"]: f for f in json.loads(out_json.read_text())["findings"]}
+    assert by["print.thin_walls"]["severity"] == by["print.bridges"]["severity"] == "PASS"
+    assert by["float.upright"]["severity"] == "NOT_EVALUATED"      # that folder has no mass properties
+
+
+def test_a_bad_build_folder_exits_2_naming_what_is_wrong(tmp_path, capsys):
+    assert main(["check", str(DEFAULT_DESIGN), "--build", str(tmp_path / "nope")]) == 2
+    assert "not a folder; expected a build folder" in capsys.readouterr().err
+    (tmp_path / "empty").mkdir()
+    assert main(["check", str(DEFAULT_DESIGN), "--build", str(tmp_path / "empty")]) == 2
+    assert "no manifest.json in it" in capsys.readouterr().err
+    bad = _printed("bracket", -4.0, walls=[(0.6, "thin")])
+    d = _build_folder(tmp_path, [bad])
+    assert main(["check", str(DEFAULT_DESIGN), "--build", d]) == 2
+    err = capsys.readouterr().err
+    assert "problem(s) in the build's manifest" in err
+    assert "parts[bracket].print.support_area_mm2 = -4.0" in err
+    assert "parts[bracket].print.thin_walls[0].limit_mm = 'thin'" in err and "Traceback" not in err
+    old = tmp_path / "old"
+    old.mkdir()
+    (old / "manifest.json").write_text(json.dumps({"parts": [{"label": "lid", "printed": True,
+                                                               "print_size_mm": [1, 2, 3]}]}))
+    assert main(["check", str(DEFAULT_DESIGN), "--build", str(old)]) == 2
+    assert "rebuild with `swiftfin build --out" in capsys.readouterr().err
+    (old / "manifest.json").write_text("[1, 2")
+    assert main(["check", str(DEFAULT_DESIGN), "--build", str(old)]) == 2
+    assert "not readable JSON" in capsys.readouterr().err

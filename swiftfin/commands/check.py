@@ -21,7 +21,10 @@ given) does not fail the job; read the "why:" lines under the table.
 ``--mass-properties FILE``: a build's ``mass_properties.json``, or JSON ``{"total_mass_kg": m, "com_m": [x, y, z],
 "cob_m": [x, y, z], "displaced_volume_m3": V}`` in the body frame; without it the floating rules report
 NOT_EVALUATED. ``--parts-bbox FILE``: JSON ``{"label": [dx, dy, dz], ...}`` in mm, print orientation; without it
-the bed rule uses the layout's estimate of the largest parts. ``--loads`` also prints the load model's numbers
+the bed rule uses the layout's estimate of the largest parts. ``--build DIR``: a build folder; its
+``mass_properties.json`` and its ``manifest.json`` (the printed parts' boxes and their printability records: support
+area, thin walls, bridges; without it the print.support / thin_walls / bridges rules report NOT_EVALUATED); an
+explicit --mass-properties or --parts-bbox wins over the folder's. ``--loads`` also prints the load model's numbers
 per joint and the sensitivity of its outputs to the uncertain coefficients.
 """
 from __future__ import annotations
@@ -47,6 +50,9 @@ def configure(ap) -> None:
     ap.add_argument("--json", metavar="FILE", help="also write the findings as JSON")
     ap.add_argument("--mass-properties", metavar="FILE", help="JSON mass properties of the built robot")
     ap.add_argument("--parts-bbox", metavar="FILE", help="JSON print-orientation bounding boxes of the built parts [mm]")
+    ap.add_argument("--build", metavar="DIR",
+                    help="a build folder (swiftfin build --out DIR): its mass properties, its printed parts' boxes "
+                         "and their printability (support, thin walls, bridges) as the build measured them")
     ap.add_argument("--loads", action="store_true", help="print the per-joint loads and their sensitivities")
     ap.add_argument("--calibration", metavar="FILE",
                     help="a calibration file (swiftfin fit joint writes one): the rules use the measured cable "
@@ -88,6 +94,30 @@ def _bboxes(path: str) -> dict:
     if probs:
         raise ParamError(path, probs, BBOX[1])
     return out
+
+
+MANIFEST = ("build manifest (JSON)", "the build's manifest")
+
+
+def read_build_dir(folder: str):
+    """(mass properties or None, printed parts' boxes, print records) of a build folder: its ``manifest.json``
+    (required) and its ``mass_properties.json`` (when the build wrote one). Errors name the folder or the file."""
+    d = Path(folder)
+    man = d / "manifest.json"
+    if not d.is_dir() or not man.is_file():
+        raise UserError(f"{folder}: {'no manifest.json in it' if d.is_dir() else 'not a folder'}; expected a build "
+                        f"folder (swiftfin build --out {folder})")
+    from swiftfin.design_rules.printing import records_from_manifest
+    boxes, records = records_from_manifest(_read_json(str(man), MANIFEST), str(man))
+    if not records:
+        raise UserError(f"{man}: no printed part has a \"print\" entry (written by builds since 2026-11-28); "
+                        f"rebuild with `swiftfin build --out {folder}`")
+    mpath = d / "mass_properties.json"
+    mp = None
+    if mpath.is_file():
+        raw = _read_json(str(mpath), MASS_PROPERTIES)
+        mp = MassProperties.from_dict(raw, str(mpath))
+    return mp, boxes, records
 
 
 def _write_json(path: str, data) -> None:
@@ -150,7 +180,12 @@ def run(args) -> int:
     if args.mass_properties:
         mp = MassProperties.from_dict(_read_json(args.mass_properties, MASS_PROPERTIES), args.mass_properties)
     boxes = _bboxes(args.parts_bbox) if args.parts_bbox else None
-    ctx = RuleContext(params, mass_properties=mp, part_bboxes_mm=boxes, calibration=cal)
+    records = None
+    if args.build:
+        built_mp, built_boxes, records = read_build_dir(args.build)
+        mp = mp if mp is not None else built_mp
+        boxes = boxes if boxes is not None else built_boxes
+    ctx = RuleContext(params, mass_properties=mp, part_bboxes_mm=boxes, calibration=cal, print_records=records)
     findings = run_rules(ctx)
     worst = verdict(findings)
     print(f"swiftfin check {args.params_file}")

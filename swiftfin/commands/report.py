@@ -98,6 +98,8 @@ def parts_from_build_dir(out: Path, manifest: dict, p, progress) -> list:
     if missing or not entries:
         raise UserError(f"{out / 'assembly.step'}: parts {', '.join(map(str, missing[:5])) or '(none)'} of "
                         f"manifest.json are not in the assembly; rebuild with `swiftfin build`")
+    from swiftfin.design_rules.printing import records_from_manifest
+    _, records = records_from_manifest(manifest, str(out / "manifest.json"))
     parts = []
     for k, e in enumerate(entries):
         progress(f"tessellating part {k + 1}/{len(entries)}: {e['label']}")
@@ -106,8 +108,16 @@ def parts_from_build_dir(out: Path, manifest: dict, p, progress) -> list:
         size = e.get("print_size_mm")
         parts.append(ReportPart(e["label"], e.get("family", ""), int(e.get("link", 0)), bool(e.get("printed", True)),
                                 mesh.vertices, mesh.faces, tuple(size) if size else None, e.get("volume_mm3"),
-                                tuple(e["print_rotation"]) if e.get("print_rotation") else None))
+                                tuple(e["print_rotation"]) if e.get("print_rotation") else None,
+                                **_print_facts(records.get(e["label"]))))
     return parts
+
+
+def _print_facts(rec) -> dict:
+    """A ReportPart's printability fields from its manifest record (none when the manifest has none)."""
+    if rec is None:
+        return {}
+    return {"support_area_mm2": rec.support_area_mm2, "thin_walls": rec.walls, "bridges": rec.bridges}
 
 
 def _read_mass_properties(path: Path):
