@@ -499,13 +499,37 @@ def guide_solid(b: GuideBlock) -> Solid:
     return solids[0]
 
 
+def channel_bores_mm(b: GuideBlock) -> list[list]:
+    """The block's tube channels as bore segments, ``[[x, y, z], [x, y, z], radius]`` each (an arc as chords of
+    :func:`arc_points`, within 0.01 mm of it): the webs between two of them are held to one line width by the wall
+    probe (``exports/printability.py``), not to two perimeters.
+
+    Why a web between two tubes' bores carries no load that its thinness matters to: each tube is bonded in its
+    own bore; along a straight it pushes on nothing, and round an arc it bears on the inside of its bend with the
+    cable's tension over the radius (T / R: 2.25 N per mm at the default 45 N of pretension round its 20 mm bends),
+    which presses the web through its thickness against the next tube, which backs it. Compression through the
+    thickness over the tube's height (about its OD) is about 1 MPa at pretension, against some 60 MPa that PLA takes
+    in compression; nothing bends or pulls the web. Two perimeters are for walls that do; this web needs only to be
+    there, one line wide (PrusaSlicer's variable-width perimeters print a 0.6 mm web as one line)."""
+    out = []
+    for ch in b.channels:
+        r = ch.diameter_mm / 2
+        if ch.angle_rad <= 1e-9:                   # a lane passing straight through
+            out.append([list(map(float, ch.p_in)), list(map(float, ch.p_out)), r])
+            continue
+        arc = arc_points(ch)
+        line = np.vstack([np.asarray(ch.p_in, float), arc, np.asarray(ch.p_out, float)])
+        out += [[list(map(float, line[k])), list(map(float, line[k + 1])), r] for k in range(len(line) - 1)]
+    return out
+
+
 def make_guides(p: Params) -> list[PartSpec]:
     """``guide_exit_<j>`` for motors j >= 2 and ``guide_bay``, link 0, each printed on its flat face."""
     out = []
     for b in guide_blocks(p):
         out.append(PartSpec(label=b.label, solid=guide_solid(b), link=0, family="guide",
                             print_rotation=b.print_rotation,
-                            meta={"mount": b.mount,
+                            meta={"mount": b.mount, "load_free_bores_mm": channel_bores_mm(b),
                                   "bends_deg": [round(math.degrees(ch.angle_rad), 3) for ch in b.channels
                                                 if ch.angle_rad > 0]}))
     return out

@@ -207,7 +207,8 @@ def export_part(spec, p) -> PartExport:
         rot, support, tried = choose_orientation(spec, mesh, p)
         up = rotation_matrix(rot)[:3, :3].T @ np.array([0.0, 0.0, 1.0])     # the print's vertical, at rest
         thin = tuple(thin_walls(mesh.vertices, mesh.faces, 2 * p.print.line_width_mm, up=up,
-                                layered_limit_mm=LAYERED_WALL_LAYERS * p.print.layer_height_mm))
+                                layered_limit_mm=LAYERED_WALL_LAYERS * p.print.layer_height_mm,
+                                bores=spec.meta.get("load_free_bores_mm"), web_limit_mm=p.print.line_width_mm))
         limit = p.print.max_bridge_mm
         long_bridges = tuple(b for b in bridges(mesh.vertices, mesh.faces, limit, up=up) if b.span_mm > limit)
         checks_s = time.perf_counter() - t0

@@ -126,10 +126,12 @@ class ThinWall:
     area_mm2: float
     at_mm: tuple[float, float, float]     # the thinnest probe point (the mesh's frame)
     limit_mm: float
+    kind: str = "wall"                    # "web": a load-free web between two bores (held to one line width)
 
     def __str__(self) -> str:
         x, y, z = self.at_mm
-        return (f"{self.thickness_mm:.2f} mm wall (limit {self.limit_mm:.2f}) over {self.area_mm2:.1f} mm^2 at "
+        what = "web between bores" if self.kind == "web" else "wall"
+        return (f"{self.thickness_mm:.2f} mm {what} (limit {self.limit_mm:.2f}) over {self.area_mm2:.1f} mm^2 at "
                 f"({x:.1f}, {y:.1f}, {z:.1f}) mm")
 
 
@@ -157,13 +159,49 @@ LAYERED_WALL_DEG = 30.0
 """A wall whose thickness runs within this angle of the print's vertical is made of layers, not of lines."""
 
 
+BORE_SURFACE_MM = 0.1
+"""A probe point (or its ray's end) within this of a bore's surface lies on that bore (the mesh's chords stand a
+few hundredths inside the true cylinder)."""
+
+
+def _segment_distance(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of each point (n, 3) to each segment a[k]-b[k] (k, 3): (n, k)."""
+    ab = b - a
+    t = np.einsum("nkd,kd->nk", points[:, None, :] - a[None], ab) / np.maximum((ab * ab).sum(axis=1), 1e-12)
+    q = a[None] + np.clip(t, 0.0, 1.0)[..., None] * ab[None]
+    return np.linalg.norm(points[:, None, :] - q, axis=2)
+
+
+def between_bores(points: np.ndarray, hits: np.ndarray, bores) -> np.ndarray:
+    """Whether each probe point lies on the surface of one of ``bores`` and its ray ends on another's: the web
+    between two bores. ``bores``: ``[[x, y, z], [x, y, z], radius]`` segments (a part's load-free bores)."""
+    if not bores or len(points) == 0:
+        return np.zeros(len(points), bool)
+    a = np.array([s[0] for s in bores], float)
+    b = np.array([s[1] for s in bores], float)
+    r = np.array([s[2] for s in bores], float)
+    on_p = np.abs(_segment_distance(points, a, b) - r[None]) <= BORE_SURFACE_MM
+    on_h = np.abs(_segment_distance(hits, a, b) - r[None]) <= BORE_SURFACE_MM
+    # two different bores: segments of one channel meet at its tangents, so "different" is "not the same segment
+    # and not both ends on segments sharing a point" -- a web needs its two faces on bores that do not touch
+    touch = np.zeros((len(bores), len(bores)), bool)
+    for i in range(len(bores)):
+        touch[i] = (np.linalg.norm(b - a[i], axis=1) < 1e-6) | (np.linalg.norm(a - b[i], axis=1) < 1e-6)
+    np.fill_diagonal(touch, True)
+    pair = (on_p.astype(np.int32) @ (~touch).astype(np.int32)) * on_h
+    return pair.any(axis=1)
+
+
 def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: int = 0,
-               up: np.ndarray | None = None, layered_limit_mm: float | None = None) -> list[ThinWall]:
+               up: np.ndarray | None = None, layered_limit_mm: float | None = None,
+               bores=None, web_limit_mm: float | None = None) -> list[ThinWall]:
     """The regions of a closed mesh whose walls are thinner than ``limit_mm`` (probe points within
     :data:`CLUSTER_MM` of each other are one region; regions under :data:`MIN_THIN_AREA_MM2` are dropped),
     thinnest first. With ``up`` (the print's vertical, in the mesh's frame) a wall whose thickness runs within
     :data:`LAYERED_WALL_DEG` of it is a stack of layers and is held to ``layered_limit_mm`` instead (a plate printed
-    flat is as thick as its layers, whatever the line width)."""
+    flat is as thick as its layers, whatever the line width). With ``bores`` (the part's load-free bores, see
+    :func:`between_bores`) a web between two of them carries no load and is held to ``web_limit_mm`` (one line
+    width: the issue's "ridges that carry no load"); its region is of kind "web"."""
     from scipy.sparse import coo_matrix
     from scipy.sparse.csgraph import connected_components
     from scipy.spatial import cKDTree
@@ -174,6 +212,12 @@ def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: i
         u = np.asarray(up, dtype=float) / np.linalg.norm(up)
         layered = np.abs(normals @ u) >= math.cos(math.radians(LAYERED_WALL_DEG))
         limit[layered] = float(layered_limit_mm)
+    web = np.zeros(len(points), bool)
+    if bores and web_limit_mm is not None:
+        cand = np.nonzero(is_wall & (thickness < limit - WALL_TOLERANCE_MM))[0]
+        hits = points[cand] - thickness[cand, None] * normals[cand]
+        web[cand] = between_bores(points[cand], hits, bores)
+        limit[web] = np.minimum(limit[web], float(web_limit_mm))
     thin = np.nonzero(is_wall & (thickness < limit - WALL_TOLERANCE_MM))[0]
     if len(thin) == 0:
         return []
@@ -187,7 +231,8 @@ def thin_walls(vertices: np.ndarray, faces: np.ndarray, limit_mm: float, seed: i
         if area < MIN_THIN_AREA_MM2:
             continue
         i = members[np.argmin(thickness[members])]
-        out.append(ThinWall(float(thickness[i]), float(area), tuple(float(v) for v in points[i]), float(limit[i])))
+        out.append(ThinWall(float(thickness[i]), float(area), tuple(float(v) for v in points[i]), float(limit[i]),
+                            "web" if web[i] else "wall"))
     return sorted(out, key=lambda w: w.thickness_mm)
 
 

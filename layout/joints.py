@@ -373,7 +373,12 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     # +y insert, whose wall must be 1.44 mm)
     y_s = _row_clear_of_passages(p, x - g2, s, y_s, (z_lo, z_hi))
     fz = (min(z_lo - e_z, z_win_lo), max(z_hi + e_z, z_sec_hi))
-    keep_out = ((fz[0] - 1.0, z_win_lo, keep_lo), (z_sec_hi, fz[1] + 1.0, keep_hi))
+    def through(r: float) -> float:
+        """A keep-out that would leave less than a web of plate behind it (the plate's back face is g2 behind the
+        axis) cuts through the plate instead (joint 1's left a 0.51 mm sliver over 34 mm^2: the wall probe)."""
+        return g2 + web if g2 - web < r < g2 + web else r
+
+    keep_out = ((fz[0] - 1.0, z_win_lo, through(keep_lo)), (z_sec_hi, fz[1] + 1.0, through(keep_hi)))
     w_f = y_s + max(head_r, s.clearance_hole_mm / 2 + web) + ROW_MARGIN_MM
     # the flange's corners must not reach the parent's rear bulkhead plane (x + g2) at the stop angle, nor the heads
     w_rot = (g2 - ca + (g2 - tf) * math.cos(thr)) / max(math.sin(thr), 1e-9)

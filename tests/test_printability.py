@@ -275,3 +275,39 @@ def test_the_default_parts_bridges_are_on_their_surface_and_inside_their_support
         assert plan <= exp.support_area_mm2 + 1e-6, (label, plan, exp.support_area_mm2)
         found[label] = max(b.span_mm for b in exp.bridges)
     assert found["hull_body_1_upper"] > 30.0          # the crown of an upright shell: about its inner width
+
+
+def test_a_web_between_two_declared_bores_is_held_to_one_line_a_skin_to_two():
+    """A 20 x 12 x 10 mm block with two 3 mm bores along x, 3.6 mm apart (a 0.6 mm web between them), and a third
+    0.6 mm under the top face. Undeclared, both thin places fail two perimeters (0.9 mm). With the bores declared
+    load-free, the web between the first two is held to one line width (0.45: passes; 0.7: a "web" region), while
+    the skin over the third stays a wall at 0.9, though that bore is declared too (its other face is no bore)."""
+    import manifold3d as m3d
+    from swiftfin.exports.printability import between_bores, thin_walls
+
+    def bore(y, z):
+        return m3d.Manifold.cylinder(24.0, 1.5, 1.5, 64).rotate([0.0, 90.0, 0.0]).translate([-2.0, y, z])
+
+    block = m3d.Manifold.cube([20.0, 12.0, 10.0])
+    holes = [(3.0, 3.0), (6.6, 3.0), (6.6, 7.9)]            # the third's top at 9.4: 0.6 mm of skin to z = 10
+    part = block
+    for y, z in holes:
+        part = part - bore(y, z)
+    v, f = _manifold_mesh(part)
+    plain = thin_walls(v, f, 0.9)
+    in_web = [w for w in plain if 4.4 < w.at_mm[1] < 5.2 and w.at_mm[2] < 4.0]
+    on_top = [w for w in plain if w.at_mm[2] > 9.0]
+    # the web's thin strip is narrow (where the bores' gap is under 0.9 mm) and its sampling breaks it in pieces
+    assert in_web and on_top and len(in_web) + len(on_top) == len(plain)
+    assert all(w.kind == "wall" and w.thickness_mm == pytest.approx(0.6, abs=0.02) for w in plain)
+    declared = [[[-2.0, y, z], [22.0, y, z], 1.5] for y, z in holes]
+    skin = thin_walls(v, f, 0.9, bores=declared, web_limit_mm=0.45)
+    assert skin and all(w.kind == "wall" and w.at_mm[2] > 9.0 and w.limit_mm == 0.9 for w in skin)
+    webs = thin_walls(v, f, 0.9, bores=declared, web_limit_mm=0.7)
+    web = [w for w in webs if w.kind == "web"]
+    assert web and all(w.limit_mm == 0.7 and 4.4 < w.at_mm[1] < 5.2 for w in web)
+    assert "web between bores" in str(web[0])
+    # the classifier itself: a point on bore 1 whose ray ends on bore 2 is a web; ending on the same bore is not
+    on1, on2 = np.array([[10.0, 4.5, 3.0]]), np.array([[10.0, 5.1, 3.0]])
+    assert between_bores(on1, on2, declared).tolist() == [True]
+    assert between_bores(on1, np.array([[10.0, 1.5, 3.0]]), declared).tolist() == [False]
