@@ -136,7 +136,7 @@ def _box(p: Params, c) -> tuple[tuple[float, float], float, tuple[float, float]]
     return (s - sx / 2, s + sx / 2), sy / 2, (c.z_mm - sz / 2, c.z_mm + sz / 2)
 
 
-def _lead(p: Params, label, kind, joint, side, corners) -> HarnessLead:
+def _lead(label, kind, joint, side, corners) -> HarnessLead:
     spec = lead(kind)
     R = spec.min_bend_radius_mm
     try:
@@ -189,7 +189,7 @@ def harness(p: Params) -> tuple[HarnessLead, ...]:
                        (-mp.s_mm, side * y_flank, level),                     # turn forward
                        (-s_in, side * y_flank, level),                        # forward, turn in
                        (-s_in, side * y_face, level)]
-            out.append(_lead(p, f"lead_motor_{mp.joint + 1}", "motor_lead", mp.joint + 1, side, corners))
+            out.append(_lead(f"lead_motor_{mp.joint + 1}", "motor_lead", mp.joint + 1, side, corners))
     batt = _component(p, BATTERY)
     if batt is not None:
         power = lead("power_lead")
@@ -209,12 +209,12 @@ def harness(p: Params) -> tuple[HarnessLead, ...]:
             # its turn in over the cradle's wall: the lead's arc keeps its clearance from the wall's top edge
             edge = np.array([cradle.half_width_mm, cradle.z_top_mm])
             while level + rp <= band_hi:
-                line = np.asarray(_lead(p, "lead_power", "power_lead", 0, 1, corners(level)).centre_line_mm)
+                line = np.asarray(_lead("lead_power", "power_lead", 0, 1, corners(level)).centre_line_mm)
                 if np.min(np.linalg.norm(line[:, 1:] - edge, axis=1)) >= rp + clr:
                     break
                 level += LEVEL_STEP_MM
         if level + rp > band_hi + 1e-9:
             raise BuildError(f"lead_power: no level under the top of the electronics' side face ({band_hi:.2f} mm) "
                              f"lets it turn in over its cradle's wall")
-        out.append(_lead(p, "lead_power", "power_lead", 0, 1, corners(level)))
+        out.append(_lead("lead_power", "power_lead", 0, 1, corners(level)))
     return tuple(out)
