@@ -51,12 +51,24 @@ class Span:
 
 
 @dataclass(frozen=True)
+class Bore:
+    """A fastener's hole whose ceiling needs support in the part's print orientation: its axis leans more than the
+    support angle off the vertical and it is wider than the longest bridge."""
+    fastener: str
+    what: str                   # "clearance hole", "counterbore", "insert hole", "pilot", "nut trap", "pin bore"
+    diameter_mm: float
+    tilt_deg: float             # of its axis from the print's vertical
+
+
+@dataclass(frozen=True)
 class PrintRecord:
     label: str
     rotation_deg: tuple[float, float, float]
     support_area_mm2: float
     walls: tuple[Wall, ...] = ()
     bridges: tuple[Span, ...] = ()
+    bores_checked: int = 0              # the fasteners' round holes in the part
+    supported_bores: tuple[Bore, ...] = ()
 
     def to_dict(self) -> dict:
         return {"rotation_deg": [round(a, 6) for a in self.rotation_deg],
@@ -66,7 +78,10 @@ class PrintRecord:
                                 "kind": w.kind} for w in self.walls],
                 "bridges": [{"span_mm": None if b.span_mm is None else round(b.span_mm, 3),
                              "limit_mm": round(b.limit_mm, 4), "area_mm2": round(b.area_mm2, 3),
-                             "at_mm": [round(v, 3) for v in b.at_mm]} for b in self.bridges]}
+                             "at_mm": [round(v, 3) for v in b.at_mm]} for b in self.bridges],
+                "bores_checked": self.bores_checked,
+                "supported_bores": [{"fastener": b.fastener, "what": b.what, "diameter_mm": round(b.diameter_mm, 4),
+                                     "tilt_deg": round(b.tilt_deg, 3)} for b in self.supported_bores]}
 
 
 WHAT = "the build's manifest"
@@ -124,9 +139,24 @@ def _record(label: str, d, probs: list[Problem]) -> PrintRecord | None:
                 walls.append(Wall(float(v), float(r["limit_mm"]), float(r["area_mm2"]), at, r.get("kind", "wall")))
             else:
                 spans.append(Span(None if v is None else float(v), float(r["limit_mm"]), float(r["area_mm2"]), at))
+    checked, rows = d.get("bores_checked", 0), d.get("supported_bores", [])
+    if not (isinstance(checked, int) and not isinstance(checked, bool) and checked >= 0):
+        probs.append(Problem(f"{key}.bores_checked", checked, "expected a count >= 0"))
+    bores = []
+    if not isinstance(rows, list):
+        probs.append(Problem(f"{key}.supported_bores", rows, "expected a list"))
+        rows = []
+    for i, r in enumerate(rows):
+        k = f"{key}.supported_bores[{i}]"
+        if not (isinstance(r, dict) and isinstance(r.get("fastener"), str) and isinstance(r.get("what"), str)
+                and _num(r.get("diameter_mm"), positive=True) and _num(r.get("tilt_deg"))):
+            probs.append(Problem(k, r, "expected {fastener, what, diameter_mm > 0, tilt_deg >= 0}"))
+            continue
+        bores.append(Bore(r["fastener"], r["what"], float(r["diameter_mm"]), float(r["tilt_deg"])))
     if len(probs) > n:
         return None
-    return PrintRecord(label, tuple(float(a) for a in rot), float(area), tuple(walls), tuple(spans))
+    return PrintRecord(label, tuple(float(a) for a in rot), float(area), tuple(walls), tuple(spans), checked,
+                       tuple(bores))
 
 
 def records_from_manifest(data, source: str) -> tuple[dict[str, tuple[float, float, float]], dict[str, PrintRecord]]:

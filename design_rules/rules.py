@@ -343,9 +343,17 @@ def _count(rule_id: str, n: int, source: str, unit: str, detail: str, above: Sev
     return Finding(rule_id, float(n), 0.0, None, Severity.PASS if n == 0 else above, source, unit, "<=", detail)
 
 
+def printable_minimum_mm(w) -> float:
+    """The least a region must be to print at all: one line (or one layer, where its limit is two layers) for a
+    wall held to two; a load-free web's limit is already one line."""
+    return w.limit_mm if w.kind == "web" else w.limit_mm / 2
+
+
 def thin_walls(ctx: RuleContext) -> Finding:
     """``print.thin_walls``: regions thinner than two perimeters (two layers where the thickness runs along the
-    print's vertical; one line width for a load-free web between two bores), over every printed part."""
+    print's vertical; one line width for a load-free web between two bores), over every printed part. FAIL where
+    one would not print at all (under one line, or one layer: :func:`printable_minimum_mm`; the slicer leaves a
+    hole there), WARN where every one prints, thinner than the rule asks."""
     recs = ctx.print_records
     if not recs:
         return not_evaluated("print.thin_walls", PRINT_SOURCE, NEEDS_BUILD, "regions")
@@ -358,9 +366,12 @@ def thin_walls(ctx: RuleContext) -> Finding:
     per: dict[str, int] = {}
     for label, _ in walls:
         per[label] = per.get(label, 0) + 1
+    lost = [(label, x) for label, x in walls if x.thickness_mm < printable_minimum_mm(x) - 1e-9]
     return _count("print.thin_walls", len(walls), src, "regions",
+                  (f"{len(lost)} too thin to print at all (under one line or one layer); " if lost else
+                   "each prints (one line or layer at least), thinner than two; ") +
                   f"on {len(per)} of {len(recs)} printed parts (" + ", ".join(f"{k} {v}" for k, v in per.items())
-                  + f"); thinnest against its limit: {lb}, {w.text()}")
+                  + f"); thinnest against its limit: {lb}, {w.text()}", above=Severity.FAIL if lost else Severity.WARN)
 
 
 def long_bridges(ctx: RuleContext) -> Finding:
@@ -384,6 +395,29 @@ def long_bridges(ctx: RuleContext) -> Finding:
     if hanging:
         detail += f"; {hanging} with no edge on material below (support starts them)"
     return _count("print.bridges", len(found), src, "bridges", detail, above=Severity.WARN)
+
+
+def supported_bores(ctx: RuleContext) -> Finding:
+    """``print.bores``: no support inside a fastener's hole. A round hole whose axis leans more than the support
+    angle off the print's vertical has a ceiling that leans past it too; one no wider than ``print.max_bridge_mm``
+    closes over it unsupported (the slicer bridges it), a wider one needs support inside, which a screw, an insert
+    or a pin then meets."""
+    recs = ctx.print_records
+    if not recs:
+        return not_evaluated("print.bores", PRINT_SOURCE, NEEDS_BUILD, "bores")
+    pr = ctx.p.print
+    found = [(r.label, b) for r in recs.values() for b in r.supported_bores]
+    checked = sum(r.bores_checked for r in recs.values())
+    src = (f"a hole leaning over print.support_angle_deg = {pr.support_angle_deg:g} deg from the vertical and wider "
+           f"than print.max_bridge_mm = {pr.max_bridge_mm:g} mm needs support inside; the fasteners' holes in each "
+           f"part's print orientation")
+    if not found:
+        return _count("print.bores", 0, src, "bores",
+                      f"none of the {checked} fastener holes in the {len(recs)} printed parts")
+    lb, b = max(found, key=lambda t: t[1].diameter_mm)
+    return _count("print.bores", len(found), src, "bores",
+                  f"of {checked} fastener holes; widest: {b.what} of {b.fastener} in {lb}, {b.diameter_mm:.2f} mm "
+                  f"at {b.tilt_deg:.0f} deg from the vertical")
 
 
 def bed_fit(ctx: RuleContext) -> Finding:
@@ -679,6 +713,7 @@ RULES: list[Rule] = [
     Rule("print.support", "print", support_area),
     Rule("print.thin_walls", "print", thin_walls),
     Rule("print.bridges", "print", long_bridges),
+    Rule("print.bores", "print", supported_bores),
     Rule("heat.dry_compartment", "heat", dry_compartment_temperature),
     Rule("heat.motor_mount", "heat", motor_mount_temperature),
     Rule("power.run_time", "power", run_time),

@@ -170,3 +170,33 @@ def check_unique(fasteners) -> list[str]:
             out.append(f"fastener label {f.label!r} is used twice")
         seen.add(f.label)
     return out
+
+
+def bores_in_part(f: Fastener, label: str) -> list[tuple[str, float]]:
+    """The round holes fastener ``f`` asks of part ``label``, as ``(what, diameter_mm)``, the same ones
+    ``cad/fastening.py`` cuts: under the head the clearance hole (and the counterbore of a recessed head); in the
+    thread part the insert's hole (and the clearance hole on past it for a screw longer than its pocket), the self-tap pilot, or the clearance hole and the nut's hex trap (its circle
+    across the corners); a dowel's bore (printed under size) in the part it is pressed into and the one it slips in."""
+    out: list[tuple[str, float]] = []
+    if f.kind == "dowel":
+        if label in (f.thread_part, f.meta.get("slip_part")):
+            from swiftfin.catalogues.fasteners import dowel
+            pin = dowel(float(f.size))
+            out.append(("pin bore", pin.diameter_mm - pin.ream_stock_mm))
+        return out
+    s = f.screw
+    if f.head_part == label:
+        out.append(("clearance hole", s.clearance_hole_mm))
+        if f.recess_mm > 0:
+            out.append(("counterbore", s.counterbore_diameter_mm))
+    if f.thread_part == label:
+        if f.seat == "insert":
+            out.append(("insert hole", s.insert_hole_mm))
+            if f.length_mm - f.grip_mm > s.insert_pocket_depth_mm:     # the tip runs on past the insert's pocket
+                out.append(("clearance hole", s.clearance_hole_mm))
+        elif f.seat == "self_tap":
+            out.append(("pilot", s.pilot_hole_mm))
+        elif f.seat == "nut":
+            out += [("clearance hole", s.clearance_hole_mm),
+                    ("nut trap", s.nut_trap_width_mm / math.cos(math.radians(30.0)))]
+    return out

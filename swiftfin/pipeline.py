@@ -473,7 +473,7 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
         entry = {"label": b.spec.label, "family": b.spec.family, "link": b.spec.link, "printed": b.spec.printed,
                  "volume_mm3": round(b.export.volume_mm3, 3),
                  "print_size_mm": [round(v, 3) for v in b.export.print_size_mm], "files": []}
-        rec = print_record(b)
+        rec = print_record(b, result.params)
         if rec is not None:           # what `swiftfin check --build` and `swiftfin report` read back
             entry["print_rotation"] = rec.to_dict()["rotation_deg"]
             entry["print"] = rec.to_dict()
@@ -801,7 +801,31 @@ def swim_results(mjcf_path: Path, params: Params, jobs: int | None = 1, duration
              "slip_reactive": by[(f, True)] / (f * lam)} for f in SWIM_FREQUENCIES_HZ]
 
 
-def print_record(part):
+def fastener_bores(p: Params, label: str, rotation_deg) -> tuple[int, tuple]:
+    """(how many fastener holes part ``label`` has, those whose ceiling needs support in its print orientation):
+    :func:`swiftfin.layout.fastening.bores_in_part` of every fastener, each with its axis' tilt from the print's
+    vertical (the rule: :func:`swiftfin.design_rules.rules.supported_bores`)."""
+    import math
+
+    import numpy as np
+
+    from swiftfin.cad.fastening import all_fasteners
+    from swiftfin.design_rules.printing import Bore
+    from swiftfin.exports.files import rotation_matrix
+    from swiftfin.layout.fastening import bores_in_part
+
+    up = rotation_matrix(tuple(rotation_deg))[:3, :3].T @ np.array([0.0, 0.0, 1.0])
+    n, out = 0, []
+    for f in all_fasteners(p):
+        for what, d in bores_in_part(f, label):
+            n += 1
+            tilt = math.degrees(math.acos(min(1.0, abs(float(np.dot(f.axis, up))))))
+            if tilt > p.print.support_angle_deg + 1e-6 and d > p.print.max_bridge_mm:
+                out.append(Bore(f.label, what, d, tilt))
+    return n, tuple(out)
+
+
+def print_record(part, p: Params):
     """The printability rules' record (:class:`swiftfin.design_rules.printing.PrintRecord`) of a printed part: a
     ``BuiltPart``'s export or a ``ReportPart``; None for a bought part or one whose support was not computed."""
     from swiftfin.design_rules.printing import PrintRecord, Span, Wall
@@ -814,7 +838,9 @@ def print_record(part):
     walls = tuple(Wall(w.thickness_mm, w.limit_mm, w.area_mm2, tuple(w.at_mm), getattr(w, "kind", "wall"))
                   for w in exp.thin_walls)
     spans = tuple(Span(None if b.hanging else b.span_mm, b.limit_mm, b.area_mm2, tuple(b.at_mm)) for b in exp.bridges)
-    return PrintRecord(label, tuple(float(a) for a in exp.print_rotation), float(exp.support_area_mm2), walls, spans)
+    rot = tuple(float(a) for a in exp.print_rotation)
+    checked, bores = fastener_bores(p, label, rot)
+    return PrintRecord(label, rot, float(exp.support_area_mm2), walls, spans, checked, bores)
 
 
 def report_findings(params: Params, parts, mass_properties: dict | None, calibration=None,
@@ -829,7 +855,7 @@ def report_findings(params: Params, parts, mass_properties: dict | None, calibra
 
     rparts = [as_report_part(x) for x in parts] if parts else []
     boxes = {x.label: x.print_size_mm for x in rparts if x.printed and x.print_size_mm}
-    records = {r.label: r for r in map(print_record, rparts) if r is not None}
+    records = {r.label: r for r in (print_record(x, params) for x in rparts) if r is not None}
     findings = design_findings(params, mass_properties, boxes, calibration, records)
     if dry_report is not None:
         findings = [*findings, built_gland_finding(params, dry_report.glands)]

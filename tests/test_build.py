@@ -221,6 +221,8 @@ def test_default_design_builds_end_to_end(env, capsys):
     assert by["print.support"]["severity"] == "INFO" and by["print.support"]["value"] == pytest.approx(
         sum(q["print"]["support_area_mm2"] for q in printed), abs=0.01)
     assert by["print.bridges"]["severity"] in ("PASS", "WARN") and by["float.level"]["severity"] != "NOT_EVALUATED"
+    # no fastener hole needs support inside in the orientations chosen (every one of them checked)
+    assert by["print.bores"]["severity"] == "PASS" and sum(q["print"]["bores_checked"] for q in printed) > 200
     # a build without the cache (every solid made afresh in this process) lists the same files and hashes,
     # STEP included (fixed header dates, occurrence ids renumbered per file)
     assert main(["build", str(DEFAULT_DESIGN), "--out", "fresh", "--no-cache"]) == 0

@@ -121,9 +121,11 @@ def _build_folder(tmp_path, parts, mass=True):
     return str(d)
 
 
-def _printed(label, support, walls=(), bridges=()):
+def _printed(label, support, walls=(), bridges=(), bores=()):
     return {"label": label, "printed": True, "print_size_mm": [40, 30, 20],
-            "print": {"rotation_deg": [0, 0, 0], "support_area_mm2": support,
+            "print": {"rotation_deg": [0, 0, 0], "support_area_mm2": support, "bores_checked": 6,
+                      "supported_bores": [{"fastener": f"{label}_screw_{i}", "what": "counterbore", "diameter_mm": d,
+                                           "tilt_deg": 90.0} for i, d in enumerate(bores)],
                       "thin_walls": [{"thickness_mm": t, "limit_mm": lim, "area_mm2": 3.0, "at_mm": [-10, 2, 5],
                                       "kind": "wall"} for t, lim in walls],
                       "bridges": [{"span_mm": s, "limit_mm": 10.0, "area_mm2": 40.0, "at_mm": [-5, 0, 3]}
@@ -134,33 +136,43 @@ def test_check_reads_a_build_folders_printability(tmp_path, capsys):
     """`swiftfin check --build DIR`: the print rules from the manifest's records (support summed, INFO; a wall under
     its limit fails, named with its part and place; bridges over the limit warn), the float rules from the folder's
     mass properties, the bed rule from its boxes."""
-    d = _build_folder(tmp_path, [_printed("bracket", 120.5, walls=[(0.61, 0.9)], bridges=[23.0, None]),
+    d = _build_folder(tmp_path, [_printed("bracket", 120.5, walls=[(0.61, 0.9)], bridges=[23.0, None], bores=[12.0]),
                                  _printed("lid", 30.0), {"label": "motor", "printed": False}])
     out_json = tmp_path / "c.json"
     assert main(["check", str(DEFAULT_DESIGN), "--build", d, "--json", str(out_json)]) == 1
     by = {f["rule_id"]: f for f in json.loads(out_json.read_text())["findings"]}
     assert by["print.support"]["severity"] == "INFO" and by["print.support"]["value"] == 150.5
     assert "2 of 2 printed parts need support; most: bracket 120, lid 30 mm^2" in by["print.support"]["detail"]
-    tw = by["print.thin_walls"]
-    assert tw["severity"] == "FAIL" and tw["value"] == 1 and tw["limit"] == 0
+    tw = by["print.thin_walls"]            # 0.61 mm: over one line, under two perimeters: it prints, thin
+    assert tw["severity"] == "WARN" and tw["value"] == 1 and tw["limit"] == 0
     assert "bracket, 0.61 mm wall (limit 0.90) over 3.0 mm^2 at (-10.0, 2.0, 5.0) mm" in tw["detail"]
     br = by["print.bridges"]
     assert br["severity"] == "WARN" and br["value"] == 2
     assert "longest: bracket, 23.0 mm" in br["detail"] and "1 with no edge on material below" in br["detail"]
+    bo = by["print.bores"]
+    assert bo["severity"] == "FAIL" and bo["value"] == 1
+    assert "of 12 fastener holes; widest: counterbore of bracket_screw_0 in bracket, 12.00 mm at 90 deg" in bo["detail"]
     assert by["float.upright"]["severity"] == "PASS"
     assert "40 x 30 x 20 mm on a" in by["print.bed_fit"]["detail"] and "built parts" in by["print.bed_fit"]["detail"]
+    # a wall under one line does not print at all: FAIL, said so
+    d3 = tmp_path / "thin"
+    d3.mkdir()
+    (d3 / "manifest.json").write_text(json.dumps({"parts": [_printed("lid", 0.0, walls=[(0.61, 0.9), (0.3, 0.9)])]}))
+    assert main(["check", str(DEFAULT_DESIGN), "--build", str(d3), "--json", str(out_json)]) == 1
+    tw = {f["rule_id"]: f for f in json.loads(out_json.read_text())["findings"]}["print.thin_walls"]
+    assert tw["severity"] == "FAIL" and tw["value"] == 2 and "1 too thin to print at all" in tw["detail"]
     # without a build the print rules say what they need
     assert main(["check", str(DEFAULT_DESIGN), "--json", str(out_json)]) == 1
     by = {f["rule_id"]: f for f in json.loads(out_json.read_text())["findings"]}
     assert all(by[k]["severity"] == "NOT_EVALUATED" and "--build" in by[k]["detail"]
-               for k in ("print.support", "print.thin_walls", "print.bridges"))
+               for k in ("print.support", "print.thin_walls", "print.bridges", "print.bores"))
     # a clean build passes the walls and bridges
     d2 = tmp_path / "clean"
     d2.mkdir()
     (d2 / "manifest.json").write_text(json.dumps({"parts": [_printed("lid", 0.0)]}))
     assert main(["check", str(DEFAULT_DESIGN), "--build", str(d2), "--json", str(out_json)]) == 1
     by = {f["rule_id"]: f for f in json.loads(out_json.read_text())["findings"]}
-    assert by["print.thin_walls"]["severity"] == by["print.bridges"]["severity"] == "PASS"
+    assert by["print.thin_walls"]["severity"] == by["print.bridges"]["severity"] == by["print.bores"]["severity"] == "PASS"
     assert by["float.upright"]["severity"] == "NOT_EVALUATED"      # that folder has no mass properties
 
 
@@ -171,12 +183,14 @@ def test_a_bad_build_folder_exits_2_naming_what_is_wrong(tmp_path, capsys):
     assert main(["check", str(DEFAULT_DESIGN), "--build", str(tmp_path / "empty")]) == 2
     assert "no manifest.json in it" in capsys.readouterr().err
     bad = _printed("bracket", -4.0, walls=[(0.6, "thin")])
+    bad["print"]["supported_bores"] = [{"fastener": "s", "what": "pilot", "diameter_mm": 0}]
     d = _build_folder(tmp_path, [bad])
     assert main(["check", str(DEFAULT_DESIGN), "--build", d]) == 2
     err = capsys.readouterr().err
     assert "problem(s) in the build's manifest" in err
     assert "parts[bracket].print.support_area_mm2 = -4.0" in err
     assert "parts[bracket].print.thin_walls[0].limit_mm = 'thin'" in err and "Traceback" not in err
+    assert "parts[bracket].print.supported_bores[0]" in err
     old = tmp_path / "old"
     old.mkdir()
     (old / "manifest.json").write_text(json.dumps({"parts": [{"label": "lid", "printed": True,

@@ -311,3 +311,49 @@ def test_a_web_between_two_declared_bores_is_held_to_one_line_a_skin_to_two():
     on1, on2 = np.array([[10.0, 4.5, 3.0]]), np.array([[10.0, 5.1, 3.0]])
     assert between_bores(on1, on2, declared).tolist() == [True]
     assert between_bores(on1, np.array([[10.0, 1.5, 3.0]]), declared).tolist() == [False]
+
+
+def test_the_fastener_bores_listed_are_the_holes_cut(default_params):
+    """``layout.fastening.bores_in_part`` (what the support rule reads) against the cutters of ``cad/fastening.py``
+    (what the parts get): for a screw of each seat and a dowel, pointed along z, the cutters' widths across the axis
+    are the listed diameters."""
+    from swiftfin.cad.fastening import head_cutters, seat_cutters
+    from swiftfin.layout.fastening import Fastener, bores_in_part
+
+    def widths(solids):
+        return sorted({round(s.bounding_box().size.X, 4) for s in solids})
+
+    for seat in ("insert", "self_tap", "nut"):
+        f = Fastener("t", "M3", "cap_screw", seat, (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 12.0, 4.0, "a", "b", "test",
+                     recess_mm=1.0)
+        assert widths(head_cutters(f)) == sorted(round(d, 4) for _, d in bores_in_part(f, "a")), seat
+        if seat != "nut":      # the hex trap's box is its width across corners one way, across flats the other
+            assert widths(seat_cutters(f)) == sorted(round(d, 4) for _, d in bores_in_part(f, "b")), seat
+    pin = Fastener("p", "3", "dowel", "press", (0.0, 0.0, 0.0), (0.0, 0.0, 1.0), 8.0, 0.0, None, "b", "test",
+                   meta={"slip_part": "c"})
+    assert widths(seat_cutters(pin)) == [round(d, 4) for _, d in bores_in_part(pin, "b")] == \
+        [round(d, 4) for _, d in bores_in_part(pin, "c")]
+
+
+def test_a_hull_half_on_end_would_need_support_in_its_seam_bores(default_params):
+    """The rule's reason for printing the hull's halves cut face down, on the real design: so, the head's upper
+    half needs no support in any fastener hole. Its seam's 10 bores stand vertical; the splice's screws (along the
+    skin's normal, 55 deg) and the motor mounts' wall screws (through the side wall, 81-82 deg) lean, and are
+    bridged (4.3 mm at most, under the 10 mm limit). Turned on end (ry = 90) the seam's bores lie across the layers
+    too, and with a bridge limit under their width every hole is listed with its tilt."""
+    import dataclasses
+
+    from swiftfin.pipeline import fastener_bores
+
+    n, found = fastener_bores(default_params, "hull_head_front_upper", (0.0, 0.0, 0.0))
+    assert n == 28 and found == ()
+    p = dataclasses.replace(default_params, print=dataclasses.replace(default_params.print, max_bridge_mm=1.0))
+    _, flat = fastener_bores(p, "hull_head_front_upper", (0.0, 0.0, 0.0))
+    assert flat and not any("_seam_" in b.fastener for b in flat)
+    assert all(("_splice_" in b.fastener and 50 < b.tilt_deg < 60) or ("_wall_" in b.fastener and b.tilt_deg > 80)
+               for b in flat)
+    _, on_end = fastener_bores(p, "hull_head_front_upper", (0.0, 90.0, 0.0))
+    seam = [b for b in on_end if "_seam_" in b.fastener]
+    assert len(on_end) == n and len(seam) == 10
+    assert all(b.tilt_deg == pytest.approx(90.0, abs=1e-6) for b in seam)
+    assert {b.what for b in seam} == {"insert hole", "pin bore"}
