@@ -7,6 +7,7 @@ file; the default limits are the paper's where it gives one.
 """
 from __future__ import annotations
 
+import collections
 import functools
 import math
 from dataclasses import dataclass
@@ -363,9 +364,7 @@ def thin_walls(ctx: RuleContext) -> Finding:
     if not walls:
         return _count("print.thin_walls", 0, src, "regions", f"none on the {len(recs)} printed parts")
     lb, w = min(walls, key=lambda t: t[1].thickness_mm / t[1].limit_mm)
-    per: dict[str, int] = {}
-    for label, _ in walls:
-        per[label] = per.get(label, 0) + 1
+    per = collections.Counter(label for label, _ in walls)
     lost = [(label, x) for label, x in walls if x.thickness_mm < printable_minimum_mm(x) - 1e-9]
     return _count("print.thin_walls", len(walls), src, "regions",
                   (f"{len(lost)} too thin to print at all (under one line or one layer); " if lost else

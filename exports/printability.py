@@ -184,9 +184,8 @@ def between_bores(points: np.ndarray, hits: np.ndarray, bores) -> np.ndarray:
     on_h = np.abs(_segment_distance(hits, a, b) - r[None]) <= BORE_SURFACE_MM
     # two different bores: segments of one channel meet at its tangents, so "different" is "not the same segment
     # and not both ends on segments sharing a point" -- a web needs its two faces on bores that do not touch
-    touch = np.zeros((len(bores), len(bores)), bool)
-    for i in range(len(bores)):
-        touch[i] = (np.linalg.norm(b - a[i], axis=1) < 1e-6) | (np.linalg.norm(a - b[i], axis=1) < 1e-6)
+    touch = ((np.linalg.norm(b[None] - a[:, None], axis=2) < 1e-6)
+             | (np.linalg.norm(a[None] - b[:, None], axis=2) < 1e-6))
     np.fill_diagonal(touch, True)
     pair = (on_p.astype(np.int32) @ (~touch).astype(np.int32)) * on_h
     return pair.any(axis=1)

@@ -475,8 +475,8 @@ def write_outputs(result: BuildResult, folder: Path, params_file: Path,
                  "print_size_mm": [round(v, 3) for v in b.export.print_size_mm], "files": []}
         rec = print_record(b, result.params)
         if rec is not None:           # what `swiftfin check --build` and `swiftfin report` read back
-            entry["print_rotation"] = rec.to_dict()["rotation_deg"]
-            entry["print"] = rec.to_dict()
+            d = rec.to_dict()
+            entry["print_rotation"], entry["print"] = d["rotation_deg"], d
         for kind in FILE_KINDS:
             data = b.export.files.get(kind)
             if data is None:
