@@ -22,6 +22,13 @@ class PrintedStrength:
         return self.tensile_yield_mpa * self.sustained_fraction
 
     @property
+    def bending_allowable_mpa(self) -> float:
+        """Bending stress a printed section may take stroke after stroke along its layers [MPa]: the held-load
+        figure above. The catalogue has no fatigue data; the held-load fraction stands in for it (a load repeated
+        millions of times, as the fin's at the tail-beat frequency, is no kinder to a thermoplastic than one held)."""
+        return self.tensile_yield_mpa * self.sustained_fraction
+
+    @property
     def shear_allowable_mpa(self) -> float:
         """Shear stress a printed wall may hold under a held load (pull-out, pull-through) [MPa]: half the above."""
         return 0.5 * self.bearing_allowable_mpa

@@ -33,8 +33,8 @@ def _min(cur, x):
 
 @njit(cache=True, nogil=True, error_model="numpy")
 def time_loop(C_all, S_all, om, U, a, b, sa, sb, nodes, dxn, tot, w_first, w_last, lo, hi, cum, e0, step,
-              masses, a_c, b_c, x_c, izz, aq, bq, saq, sbq, xq, rho, area, a_slope, cd90, cmax, m_af,
-              tau, thetad, thetadd, amp_ratio, den_bad):
+              masses, a_c, b_c, x_c, izz, aq, bq, saq, sbq, xq, rho, area, a_slope, cd90, cmax, m_af, x_root,
+              tau, thetad, thetadd, amp_ratio, den_bad, root_peak):
     """Fill ``tau``, ``thetad``, ``thetadd`` (n, T, N): joint torque, rate and acceleration on the samples
     (C_all, S_all) = (cos w t, sin w t); ``amp_ratio`` (n, N): the largest |num| / den of the joints' relative
     angle atan2(num, den) over the samples, and ``den_bad`` (n, N) where den <= 0 at some sample (the caller
@@ -42,7 +42,8 @@ def time_loop(C_all, S_all, om, U, a, b, sa, sb, nodes, dxn, tot, w_first, w_las
 
     Shapes: a, b (n+2, N) wave coefficients at the nodes; sa, sb, dxn (n+1, N) per link; tot (n, 7, N) the
     strip moments of each link; cum (strips+1, 7, N) their prefix sums; lo, hi (n, N) each link's strips; the
-    fin's (2, N) quarter-chord and centroid coefficients (aq, bq, saq, sbq, xq)."""
+    fin's (2, N) quarter-chord and centroid coefficients (aq, bq, saq, sbq, xq). ``root_peak`` (N,): the largest
+    |moment| of the fin's two forces about the station ``x_root`` (N,) on the last link (its socket's mouth)."""
     n = tau.shape[0]
     T = C_all.shape[0]
     N = a.shape[1]
@@ -166,6 +167,10 @@ def time_loop(C_all, S_all, om, U, a, b, sa, sb, nodes, dxn, tot, w_first, w_las
             yc = aq[1, d] * C + bq[1, d] * S
             vc = w * bq[1, d] * C - w * aq[1, d] * S
             f_fam = m_af[d] * (U[d] * c_c * pd_c - vc * s_c * pd_c - w2 * yc * c_c)
+            # the socket's mouth: on the last link, between the last joint (node n) and the tail end (node n + 1)
+            wr = (x_root[d] - nodes[n, d]) / (nodes[n + 1, d] - nodes[n, d])
+            y_root = yj[n - 1, d] * (1.0 - wr) + (a[n + 1, d] * C + b[n + 1, d] * S) * wr
+            m_root = 0.0
             for p in range(2):
                 force = f_lift if p == 0 else f_fam
                 fc = force * (c_q if p == 0 else c_c)
@@ -175,6 +180,9 @@ def time_loop(C_all, S_all, om, U, a, b, sa, sb, nodes, dxn, tot, w_first, w_las
                     lever = xq[p, d] - nodes[j + 1, d]
                     if lever > 0.0:
                         tau[j, t, d] += fc * lever + fs * (yq - yj[j, d])
+                if xq[p, d] > x_root[d]:
+                    m_root += fc * (xq[p, d] - x_root[d]) + fs * (yq - y_root)
+            root_peak[d] = _max(root_peak[d], abs(m_root))
     return smax
 
 

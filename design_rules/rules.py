@@ -261,6 +261,29 @@ def strouhal_band(ctx: RuleContext) -> Finding:
 
 
 # ----------------------------------------------------------------------------------------------- printing
+def fin_root_section_mm3(p: Params) -> float:
+    """Section modulus of the fin's root tang (``layout.fin_plan.tang_dims_mm``) bent about the vertical axis, the
+    way the fin's side force bends it: height x thickness^2 / 6 [mm^3]."""
+    from swiftfin.layout.fin_plan import tang_dims_mm
+    td = tang_dims_mm(p)
+    return td.height_mm * td.thickness_mm**2 / 6.0
+
+
+def fin_root(ctx: RuleContext) -> Finding:
+    """The fin's lift and added-mass forces (the load model's) about the mouth of its socket, over the tang's
+    section there: its peak bending stress against the printed material's allowable along the layers (the fin is
+    printed flat: the stress runs along them)."""
+    from swiftfin.catalogues.printed_strength import printed_strength
+    p = ctx.p
+    m_nm = ctx.loads.peak_fin_root_moment_nm
+    z = fin_root_section_mm3(p)
+    ps = printed_strength(p.print.material)
+    return at_most("physics.fin_root", m_nm * 1e3 / z, ps.bending_allowable_mpa,
+                   "peak bending stress in the fin's root tang at its socket's mouth (the hull end)", unit="MPa",
+                   detail=f"{m_nm:.3g} N m over the tang's {z:.3g} mm^3; {p.print.material} {ps.tensile_yield_mpa:g} "
+                          f"MPa x {ps.sustained_fraction:g} (catalogues/printed_strength.toml); {ctx.load_note}")
+
+
 def _wall(rule_id: str, thickness_mm: float, what: str):
     def rule(ctx: RuleContext) -> Finding:
         lw = ctx.p.print.line_width_mm
@@ -703,6 +726,7 @@ RULES: list[Rule] = [
     Rule("physics.microstep_resolution", "physics", microstep_resolution),
     Rule("physics.cable_compliance", "physics", cable_compliance),
     Rule("physics.strouhal", "physics", strouhal_band),
+    Rule("physics.fin_root", "physics", fin_root),
     Rule("print.hull_wall", "print", _wall("print.hull_wall", lambda p: p.hull.wall_thickness_mm, "hull wall")),
     Rule("print.fin_min_thickness", "print",
          _wall("print.fin_min_thickness", lambda p: p.caudal_fin.min_thickness_mm, "fin's thinnest section")),

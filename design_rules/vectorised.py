@@ -55,6 +55,7 @@ from functools import cache
 import numpy as np
 
 from swiftfin.catalogues.materials import material
+from swiftfin.catalogues.printed_strength import printed_strength
 from swiftfin.catalogues.seals import cable_gland, seam_gap_tolerance_mm, seam_gasket
 from swiftfin.core.schema import SECTIONS, Params
 from swiftfin.design_rules.findings import Severity
@@ -858,19 +859,22 @@ class _Group:
         tau, thetad, thetadd = (np.empty((n, T2, N)) for _ in range(3))
         ratio = np.zeros((n, N))
         den_bad = np.zeros((n, N), bool)
+        root_peak = np.zeros(N)
         smax = _kernels().time_loop(
             np.ascontiguousarray(C_all[:, 0]), np.ascontiguousarray(S_all[:, 0]), f64(om), f64(U),
             f64(a), f64(b), f64(sa), f64(sb), f64(nodes), f64(dxn), f64(tot), f64(w_first), f64(w_last),
             lo, hi, cum, f64(e0), f64(step),
             f64(masses), f64(a_c), f64(b_c), f64(x_c), f64(izz), f64(aq), f64(bq), f64(saq), f64(sbq), f64(xq),
             f64(rho), f64(f["area"]), f64(a_slope), f64(c(hy + "fin_drag_coefficient_90")),
-            f64(c(hy + "fin_normal_coefficient_max")), f64(m_af), tau, thetad, thetadd, ratio, den_bad)
+            f64(c(hy + "fin_normal_coefficient_max")), f64(m_af), f64(e_end), tau, thetad, thetadd, ratio, den_bad,
+            root_peak)
         amp = np.arctan(ratio)
         for j, d in zip(*np.nonzero(den_bad)):      # a relative angle past 90 deg: atan2 sample by sample
             cur, prev = sa[j + 1, d] * C_all + sb[j + 1, d] * S_all, sa[j, d] * C_all + sb[j, d] * S_all
             amp[j, d] = np.abs(np.arctan2(cur - prev, 1.0 + cur * prev)).max()
         self.slope_ok = smax <= SLOPE_MAX
         self.tau_half, self.thetad_half, self.thetadd_half, self.amp = tau, thetad, thetadd, amp
+        self.fin_root_nm = root_peak
 
     # ---------------------------------------------------------------- drive loads (layout.loads.drive_loads)
     def drive(self, bend, length):
@@ -1119,6 +1123,13 @@ def _evaluate_group(cols: dict, n: int, mass: MassPropertyArrays | None, work: d
     out.at_most("physics.microstep_resolution", ((q / 2) / g.amp).max(axis=0),
                 c(r + "position_error_limit_fraction"))
     out.at_most("physics.cable_compliance", (d["comp_max"] / g.amp).max(axis=0), c(r + "position_error_limit_fraction"))
+    w_end = _naca_w(g.hend, g.L_mm, g.t_naca)                  # design_rules.rules.fin_root_section_mm3
+    thick = np.maximum(2 * c("caudal_fin.min_thickness_mm"), 0.5 * w_end)
+    mats = c("print.material")
+    allow = np.empty(g.N)
+    for name in set(mats.tolist()):
+        allow[mats == name] = printed_strength(name).bending_allowable_mpa
+    out.at_most("physics.fin_root", g.fin_root_nm * 1e3 / (g.H * w_end * thick**2 / 6.0), allow)
     bed, _ = g.bed_fit()
     out.at_least("print.bed_fit", bed, 1.0)
     air, case, limit, total_w = g.heat()

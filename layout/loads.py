@@ -203,6 +203,13 @@ class JointLoads:
     torque_nm: np.ndarray
     components_nm: dict = field(default_factory=dict)   # name -> (n_samples, n_joints)
     link_masses: tuple = ()
+    fin_root_moment_nm: np.ndarray | None = None        # (n_samples,) the fin's forces about its socket's mouth
+
+    @property
+    def peak_fin_root_moment_nm(self) -> float:
+        """Largest |moment| of the caudal fin's lift and added-mass forces about the mouth of its root socket (the
+        hull end, on the last link): what bends the fin's root tang where it leaves the peduncle."""
+        return float(np.max(np.abs(self.fin_root_moment_nm))) if self.fin_root_moment_nm is not None else 0.0
 
     @property
     def peak_torque_nm(self) -> np.ndarray:
@@ -312,8 +319,16 @@ def joint_loads(p: Params, link_masses: tuple[LinkMass, ...] | None = None, mass
     for j in range(n):
         comps["fin_lift"][:, j] = moment(f_lift[:, None], [fin.quarter_chord_station_m], yf, pf[:, None], j)
         comps["fin_added_mass"][:, j] = moment(f_fam[:, None], [fin.centroid_station_m], yfc, pfc, j)
+    # the same forces about the socket's mouth (the hull end, on the last link), r x F as in moment()
+    x_m = hull_end_mm(p) * MM
+    y_m = at([x_m])[0]
+    root = np.zeros(n_samples)
+    for f_n, x_f, y_f, p_f in ((f_lift, fin.quarter_chord_station_m, yf[:, 0], pf),
+                               (f_fam, fin.centroid_station_m, yfc[:, 0], pfc[:, 0])):
+        if x_f > x_m:
+            root += f_n * ((x_f - x_m) * np.cos(p_f) + (y_f - y_m[:, 0]) * np.sin(p_f))
     torque = sum(comps.values())
-    return JointLoads(t, theta, thetad, thetadd, torque, comps, masses)
+    return JointLoads(t, theta, thetad, thetadd, torque, comps, masses, root)
 
 
 @dataclass(frozen=True)

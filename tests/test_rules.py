@@ -193,3 +193,40 @@ def test_values_and_margins_read_as_a_person_would():
     assert far.margin_text() == "849x the limit"
     near = at_most("x", 1.5, 1.0, "test")
     assert near.margin_text() == "-50 %"
+
+
+# --------------------------------------------------------------------------------------------- fin root
+def test_fin_root_is_the_peak_moment_over_the_tangs_section(default_findings):
+    """physics.fin_root: the load model's fin forces about the socket's mouth over h t^2 / 6 of the tang there,
+    against PLA's 57 MPa x 0.3 (catalogues/printed_strength.toml). Default: 1.56 N m on 4.09 x 13.10 mm, 42.7 MPa
+    (worked with a script on the load model, 2026-11-28): the flat-printed tang is past its allowable at 3 Hz."""
+    import dataclasses
+    from swiftfin.layout.fin_plan import tang_dims_mm
+    from swiftfin.layout.loads import joint_loads
+    p = Params()
+    f = default_findings["physics.fin_root"]
+    td = tang_dims_mm(p)
+    z = td.height_mm * td.thickness_mm**2 / 6
+    assert z == pytest.approx(36.5628, rel=1e-4)
+    m = joint_loads(p).peak_fin_root_moment_nm
+    assert m == pytest.approx(1.5624, rel=1e-3)
+    assert f.value == pytest.approx(m * 1e3 / z) and f.value == pytest.approx(42.73, rel=1e-3)
+    assert f.limit == pytest.approx(57.0 * 0.3) and f.comparison == "<="
+    assert f.severity is Severity.FAIL
+    # at a tenth of the frequency (the same stride) the forces fall about a hundredfold and the tang holds
+    slow = dataclasses.replace(p, swimming=dataclasses.replace(p.swimming, tail_beat_frequency_hz=0.3,
+                                                               speed_m_s=p.swimming.speed_m_s / 10))
+    assert joint_loads(slow).peak_fin_root_moment_nm < m / 50
+
+
+def test_fin_root_moment_is_the_fins_moment_about_a_joint_at_the_mouth():
+    """Put the last joint at the hull end: the fin's moment about the mouth (a point interpolated on the last link)
+    is then exactly the fin's share of that joint's torque (computed about the joint's own node)."""
+    import dataclasses
+    from swiftfin.layout.loads import joint_loads
+    p = Params()
+    st = (*p.joints.stations_fraction[:-1], p.body.hull_end_fraction)
+    jl = joint_loads(dataclasses.replace(p, joints=dataclasses.replace(p.joints, stations_fraction=st)))
+    fin = jl.components_nm["fin_lift"][:, -1] + jl.components_nm["fin_added_mass"][:, -1]
+    assert np.abs(fin).max() > 0.5
+    np.testing.assert_allclose(jl.fin_root_moment_nm, fin, rtol=0, atol=1e-12)
