@@ -26,7 +26,7 @@ class PrintedStrength:
         """Bending stress a printed section may take stroke after stroke along its layers [MPa]: the held-load
         figure above. The catalogue has no fatigue data; the held-load fraction stands in for it (a load repeated
         millions of times, as the fin's at the tail-beat frequency, is no kinder to a thermoplastic than one held)."""
-        return self.tensile_yield_mpa * self.sustained_fraction
+        return self.bearing_allowable_mpa
 
     @property
     def shear_allowable_mpa(self) -> float:

@@ -260,7 +260,6 @@ def strouhal_band(ctx: RuleContext) -> Finding:
                          f"U = {sw.speed_m_s:g} m/s")
 
 
-# ----------------------------------------------------------------------------------------------- printing
 def fin_root_section_mm3(p: Params) -> float:
     """Section modulus of the fin's root tang (``layout.fin_plan.tang_dims_mm``) bent about the vertical axis, the
     way the fin's side force bends it: height x thickness^2 / 6 [mm^3]."""
@@ -284,6 +283,7 @@ def fin_root(ctx: RuleContext) -> Finding:
                           f"MPa x {ps.sustained_fraction:g} (catalogues/printed_strength.toml); {ctx.load_note}")
 
 
+# ----------------------------------------------------------------------------------------------- printing
 def _wall(rule_id: str, thickness_mm: float, what: str):
     def rule(ctx: RuleContext) -> Finding:
         lw = ctx.p.print.line_width_mm
