@@ -26,7 +26,11 @@ translation by ``g`` cannot close a gap of ``g``), so the path is proved clear, 
 the gap falls below :data:`MIN_PASSING_GAP_MM`. A declared contact (a spool on its shaft, a tang in its slot,
 halves face to face) may touch while it slides; it is sampled every ``print.clearance_sliding_mm`` of travel and
 blocks where the two overlap by more than the tessellation of two touching surfaces can make
-(``2 x export.mesh_tolerance_mm x the smaller surface area``, as the assembly check's contacts).
+(``2 x export.mesh_tolerance_mm x the smaller surface area``, as the assembly check's contacts); its booleans run on
+the two parts cut down to where they can meet on the way (exact: nothing outside the cut enters the other's box).
+A direction's pairs are proved cheapest first (the gap proofs, then the contacts by triangles times samples), so a
+direction blocked by a part passed too close is given up before any long contact slide is sampled on it: the
+default design's plan, 84 s -> 28 s from an empty memo, the same steps and notes.
 
 Each step is then drawn exploded (:mod:`swiftfin.report`): what is already in place, and the step's parts set back
 along their direction by :func:`explode_distance_mm`.
@@ -192,17 +196,44 @@ A query costs by the triangle pairs closer than its radius (a guide 0.5 mm insid
 5 ms at 0.6 mm), and a step can never be longer than the gap, so a radius past twice the gap only costs."""
 
 
+def _swept_box(lo: np.ndarray, hi: np.ndarray, u: np.ndarray, t0: float, t1: float, margin: float):
+    """The box [lo, hi] swept along ``u`` from ``t0`` to ``t1``, grown by ``margin`` on every side: a manifold3d
+    cube."""
+    import manifold3d as m3d
+
+    a = lo + np.minimum(t0 * u, t1 * u) - margin
+    b = hi + np.maximum(t0 * u, t1 * u) + margin
+    return m3d.Manifold.cube(tuple(float(c) for c in b - a)).translate(tuple(float(c) for c in a))
+
+
+CLIP_MARGIN_MM = 1.0
+"""How far outside the region two parts can meet in a sweep the clipping box of :func:`_pair_path` cuts [mm]: its
+cut faces never touch the other part, so the overlap it measures is the whole parts' (the margin is 20 times the
+default tessellation tolerance)."""
+
+
 def _pair_path(p: Params, m: Placed, q: Placed, u: np.ndarray, t0: float, t1: float,
                contact: bool) -> tuple[float, float] | None:
     """Where ``m`` moved along ``u`` from ``t0`` to ``t1`` first blocks on ``q``: (travel, the gap left or the overlap
-    volume), or None when the way is clear. See the module docstring."""
+    volume), or None when the way is clear. See the module docstring.
+
+    A declared contact is sampled with booleans on the two parts cut down to where they can meet: ``q`` to ``m``'s
+    box swept over the travel, ``m`` to ``q``'s box swept back (grown by :data:`CLIP_MARGIN_MM`). A point of
+    ``m`` outside its clip never enters ``q``'s box on the way, nor one of ``q`` outside its clip ``m``'s, so the
+    overlap at every sample is the whole parts' (the seam gasket sliding along the head's lower halves: a 4 mm slab
+    of the hull instead of the hull, 12 s -> under 1 s)."""
     tol = p.export.mesh_tolerance_mm
     step = p.print.clearance_sliding_mm
     if contact:
         allowed = 2.0 * tol * min(m.manifold.surface_area(), q.manifold.surface_area())
         n = max(1, math.ceil((t1 - t0) / step))
-        for t in np.linspace(max(t0, step), max(t1, step), n + 1):
-            vol = (m.manifold.translate(tuple(float(c) for c in t * u)) ^ q.manifold).volume()
+        samples = np.linspace(max(t0, step), max(t1, step), n + 1)
+        mm = m.manifold ^ _swept_box(*q.bounds, -u, float(samples[0]), float(samples[-1]), CLIP_MARGIN_MM)
+        qq = q.manifold ^ _swept_box(*m.bounds, u, float(samples[0]), float(samples[-1]), CLIP_MARGIN_MM)
+        if mm.is_empty() or qq.is_empty():
+            return None
+        for t in samples:
+            vol = (mm.translate(tuple(float(c) for c in t * u)) ^ qq).volume()
             if vol > allowed:
                 return float(t), float(vol)
         return None
@@ -262,7 +293,6 @@ class PathMemo:
         os.replace(tmp, d / key)
 
 
-
 def path_blocker(p: Params, moving: list[Placed], direction: str, still: list[Placed],
                  contacts: tuple[Contact, ...] = CONTACTS, memo: PathMemo | None = None
                  ) -> tuple[Blocked | None, float, int]:
@@ -278,7 +308,7 @@ def path_blocker(p: Params, moving: list[Placed], direction: str, still: list[Pl
     all_hi = np.max([q.bounds[1] for q in still], axis=0)
     travel = _travel_out_mm(lo, hi, u, all_lo, all_hi)
     tol = p.export.mesh_tolerance_mm
-    pairs = 0
+    todo = []
     for m in moving:
         mlo, mhi = m.bounds
         for q in still:
@@ -286,20 +316,34 @@ def path_blocker(p: Params, moving: list[Placed], direction: str, still: list[Pl
             win = _window(mlo, mhi, u, qlo, qhi, MIN_PASSING_GAP_MM + tol)
             if win is None or win[0] > travel:
                 continue
-            pairs += 1
             # the window ends where m's box leaves q's by the passing gap: inside the travel, which clears every
             # box by CLEAR_MARGIN_MM, so the result is the pair's own and can be remembered by the two meshes
             t0, t1 = win[0], min(win[1], travel)
             contact = contact_reason(m, q, contacts, p) is not None
-            key = _path_key(p, m, q, direction, contact) if memo is not None and t1 == win[1] else None
-            res = memo.get(key) if key is not None else MISSING
-            if res is MISSING:
-                res = _pair_path(p, m, q, u, t0, t1, contact)
-                if key is not None:
-                    memo.put(key, res)
-            if res is not None:
-                return Blocked(m.label, direction, q.label, res[0], res[1], contact), travel, pairs
-    return None, travel, pairs
+            todo.append((_pair_cost(p, m, q, t0, t1, contact), len(todo), m, q, t0, t1, contact, t1 == win[1]))
+    # the cheapest proofs first: a direction blocked by a part it passes (a gap proof, milliseconds) is given up
+    # before the sampled slides of declared contacts (seconds) are run on it; the order is the meshes' own, so the
+    # blocker named is the same with or without a memo
+    todo.sort(key=lambda c: c[:2])
+    for pairs, (_, _, m, q, t0, t1, contact, whole) in enumerate(todo, 1):
+        key = _path_key(p, m, q, direction, contact) if memo is not None and whole else None
+        res = memo.get(key) if key is not None else MISSING
+        if res is MISSING:
+            res = _pair_path(p, m, q, u, t0, t1, contact)
+            if key is not None:
+                memo.put(key, res)
+        if res is not None:
+            return Blocked(m.label, direction, q.label, res[0], res[1], contact), travel, pairs
+    return None, travel, len(todo)
+
+
+def _pair_cost(p: Params, m: Placed, q: Placed, t0: float, t1: float, contact: bool) -> tuple[int, float]:
+    """A rough order of what :func:`_pair_path` costs on a pair: the gap proofs (few steps) before the sampled
+    contacts, each kind by its triangles times its samples."""
+    tris = len(m.faces) + len(q.faces)
+    if not contact:
+        return 0, float(tris)
+    return 1, tris * max(1.0, (t1 - t0) / p.print.clearance_sliding_mm)
 
 
 def bench_hosts(labels: list[str]) -> dict[str, str]:

@@ -81,6 +81,26 @@ def test_a_declared_contact_may_slide_but_not_overlap():
     assert blocked is not None and blocked.contact and blocked.blocker == "spool_1"
 
 
+def test_a_contact_slide_is_blocked_at_the_far_end_of_a_long_rail():
+    """A block riding on a rail (declared contact, face to face) slides 60 mm along it to a stop at its far end:
+    the sampled slide, on the parts cut to where they can meet, finds the stop where an uncut boolean does, and
+    the direction away from the stop is clear."""
+    rail = placed("hull_body_1_lower", box(-10, 80, -10, 10, -5, 0) + box(70, 80, -10, 10, 0, 6))
+    block = placed("battery", box(-10, 10, -8, 8, 0, 5))
+    contacts = (Contact(r"battery", r"hull_.+", "riding on its rail"),)
+    blocked = path_blocker(P, [block], "+x", [rail], contacts)[0]
+    assert blocked is not None and blocked.contact and blocked.blocker == "hull_body_1_lower"
+    # the block's front face (x = 10) meets the stop's face (x = 70) at 60 mm; past it the overlap grows by the
+    # block's 16 x 5 mm face per mm, and blocks at the first sample past the tessellation's allowance
+    allowed = 2 * P.export.mesh_tolerance_mm * min(block.manifold.surface_area(), rail.manifold.surface_area())
+    into = allowed / (16 * 5)
+    assert 60.0 + into < blocked.travel_mm <= 60.0 + into + P.print.clearance_sliding_mm + 1e-9
+    u = np.asarray(AXES["+x"], float)
+    whole = (block.manifold.translate(tuple(float(c) for c in blocked.travel_mm * u)) ^ rail.manifold).volume()
+    assert blocked.measure_mm == pytest.approx(whole, rel=1e-4)
+    assert path_blocker(P, [block], "-x", [rail], contacts)[0] is None
+
+
 def test_a_fastener_driven_before_a_part_goes_on_orders_the_steps():
     """A screw into the cup's floor whose key passes where another part goes: that part goes on after it, whatever
     the removal preferences say (by label the battery would come out first, so go in last), and the screw is
