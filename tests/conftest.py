@@ -105,25 +105,25 @@ def default_params():
 
 
 @pytest.fixture(scope="session")
-def default_parts(default_params):
-    """Every part of the default design: each family of cad/registry.py, in build order, then the trim ballast's
-    dam and fill (swiftfin/ballast.py, which the build adds after them), built once per session (about 30 s and
-    the ballast's rounds of the mass model)."""
-    import json
+def default_build(default_params, tmp_path_factory):
+    """The default design's parts as the build makes them (swiftfin.pipeline.build_parts: each family of
+    cad/registry.py in build order, checked, read back from its BREP, exported, with the print orientation its
+    export chose), then the trim ballast's dam and fill (pipeline.place_ballast), through the run's shared rebuild
+    cache: the first worker to get here builds them (about 2 min), the others read them. A BuildResult: tests read
+    it and must not change it."""
+    from swiftfin.cache import FamilyCache
+    from swiftfin.pipeline import build_parts, place_ballast
 
-    from swiftfin.ballast import ballast_specs
-    from swiftfin.cad.registry import FAMILIES, family_function
-    parts = []
-    for name in FAMILIES:
-        parts += family_function(name)(default_params)
-    stored: dict = {}
+    cache = FamilyCache(session_cache_dir(tmp_path_factory))
+    result = build_parts(default_params, cache)
+    place_ballast(result, cache)
+    return result
 
-    def memo(stage, labels, key, compute):       # one session's store: the parts do not change
-        k = (stage, tuple(labels), json.dumps(key, sort_keys=True, default=str))
-        if k not in stored:
-            stored[k] = compute()
-        return stored[k]
-    return parts + ballast_specs(default_params, parts, memo=memo, jobs=2)
+
+@pytest.fixture(scope="session")
+def default_parts(default_build):
+    """Every part of the default design (:func:`default_build`'s PartSpecs, in build order)."""
+    return [b.spec for b in default_build.parts]
 
 
 def pytest_addoption(parser):
@@ -142,26 +142,27 @@ def default_robot(default_params, default_parts, tmp_path_factory):
 
 
 @pytest.fixture(scope="session")
-def default_slices(default_params, default_parts, tmp_path_factory):
+def default_slices(default_params, default_build, tmp_path_factory):
     """PrusaSlicer on every printed part of the default design, once per run (about 150 s on one worker): label ->
-    (the part's export, the slicer's result for its 3MF alone, which carries the design's [print] settings). Read by
-    the slicer's and the print model's tests. Under pytest-xdist the workers split the parts between them
-    (:func:`_sliced_once`): a part is sliced by whichever worker takes it first, the others read its result."""
+    (the part's export, as the build writes it, and the slicer's result for its 3MF alone, which carries the
+    design's [print] settings). Read by the slicer's and the print model's tests. Under pytest-xdist the workers
+    split the parts between them (:func:`_sliced_once`): a part is sliced by whichever worker takes it first, the
+    others read its result."""
     require_tool("prusa-slicer", "the printed parts are sliced with PrusaSlicer (issues 2 and 15)")
-    from swiftfin.exports.files import export_part
     from swiftfin.exports.slicer import slice_stl
     folder = tmp_path_factory.mktemp("default_slices")
     shared = session_shared_dir(tmp_path_factory) / "default-slices"
     shared.mkdir(exist_ok=True)
     exports, sliced = {}, {}
-    for part in default_parts:
-        if not part.printed:
+    for b in default_build.parts:
+        if not b.spec.printed:
             continue
-        ex = exports[part.label] = export_part(part, default_params)
-        threemf = folder / f"{part.label}.3mf"
+        label = b.spec.label
+        ex = exports[label] = b.export
+        threemf = folder / f"{label}.3mf"
         threemf.write_bytes(ex.files[".3mf"])
-        sliced[part.label] = _sliced_once(shared, part.label, ex.files[".3mf"],
-                                          lambda f=threemf: slice_stl(f, default_params, settings=False))
+        sliced[label] = _sliced_once(shared, label, ex.files[".3mf"],
+                                     lambda f=threemf: slice_stl(f, default_params, settings=False))
     for label, res in sliced.items():       # the parts another worker was slicing: wait for its results
         if res is None:
             sliced[label] = _sliced_once(shared, label, exports[label].files[".3mf"], None)
