@@ -443,7 +443,8 @@ def test_cli_reads_the_parts_from_a_build_folder(tmp_path, capsys):
 @pytest.mark.slow
 def test_cli_default_design_builds_in_memory(tmp_path, tmp_path_factory):
     """The real design, no build folder: parts built in memory (or read from the session's rebuild cache, where
-    another test stored them), mass properties computed, every section."""
+    another test stored them) with the trim ballast the build pours (its part in the mass table), mass properties
+    computed, every section."""
     from swiftfin.cli import main
     from tests.conftest import session_cache_dir
 
@@ -456,6 +457,7 @@ def test_cli_default_design_builds_in_memory(tmp_path, tmp_path_factory):
     n_printed = text.count('class="card" id="part-')
     assert n_printed >= 20 and len(imgs) == 2 + n_printed + 3
     assert "not computed" not in text.lower()
+    assert "<td>trim_ballast</td><td>ballast</td>" in text and "<td>ballast_dam" in text
     assert sorted(p.name for p in out.iterdir()) == ["report.html"]
 
 

@@ -10,8 +10,9 @@ Where the parts come from:
 * DIR holds a build of the same parameter file (``manifest.json`` whose ``params_sha256`` matches, and
   ``assembly.step``): the parts are read from it, and the mass table from ``DIR/mass_properties.json`` when
   the build wrote one (otherwise the page says the mass properties were not computed in this build);
-* otherwise the parts are built in memory (through the rebuild cache, like ``swiftfin build``) and the mass
-  properties computed here (``--no-mass`` skips that). Nothing but ``report.html`` is written to DIR.
+* otherwise the parts are built in memory as ``swiftfin build`` makes them, the trim ballast included, and the
+  mass properties computed here (``--no-mass`` skips that), the parts, the mass model and the pictures through the
+  rebuild cache (``--no-cache``: a temporary one, removed after). Nothing but ``report.html`` is written to DIR.
 
 Progress goes to stderr, a line per step, only when stderr is a terminal.
 """
@@ -153,7 +154,7 @@ def _read_solve(path: Path) -> dict:
 
 
 def run(args) -> int:
-    from swiftfin.report.html import MASS_PROPERTIES_NAME, Progress, ReportTiming, write_report
+    from swiftfin.report.html import MASS_PROPERTIES_NAME, Progress
 
     t0 = time.perf_counter()
     params_file = Path(args.params_file)
@@ -174,14 +175,22 @@ def run(args) -> int:
             mp, note = _read_mass_properties(mpath), f"From {mpath}."
         else:
             note = f"The build in {out} wrote no {MASS_PROPERTIES_NAME}."
-    else:
-        from swiftfin.cache import FamilyCache
-        from swiftfin.pipeline import build_parts
+        return _write(args, p, out, params_file, parts, mp, note, progress, t0, solve)
+    # no build of this design in DIR: the parts built in memory with the trim ballast, as `swiftfin build` makes
+    # them, and the mass model and the pictures through the same rebuild cache (a temporary one with --no-cache)
+    import functools
+    import tempfile
 
-        progress(f"no build of {params_file} in {out}/: building the parts in memory")
-        cache = None if args.no_cache else FamilyCache(args.cache_dir)
+    from swiftfin.cache import FamilyCache
+    from swiftfin.pipeline import build_jobs, build_parts, place_ballast, stage_memo
+    from swiftfin.prefetch import report_plots
+
+    progress(f"no build of {params_file} in {out}/: building the parts in memory")
+    with tempfile.TemporaryDirectory(prefix="swiftfin-no-cache-") as tmp:
+        cache = FamilyCache(tmp) if args.no_cache else FamilyCache(args.cache_dir)
         result = build_parts(p, cache, progress)
-        parts = result.parts
+        place_ballast(result, cache, progress)
+        parts, memo = result.parts, stage_memo(result, cache)
         if args.no_mass:
             note = "Skipped (--no-mass)."
         else:
@@ -196,16 +205,26 @@ def run(args) -> int:
                 # the build's own meshes: the triangles exports.massprops would make again (same tessellator)
                 meshes = {b.spec.label: trimesh.Trimesh(b.export.mesh.vertices, b.export.mesh.faces, process=False)
                           for b in parts if b.spec.printed}
-                mp = report_to_dict(p, mass_properties(p, [b.spec for b in parts], meshes))
+                mp = report_to_dict(p, mass_properties(p, [b.spec for b in parts], meshes, memo=memo,
+                                                       jobs=build_jobs()))
                 note = "Computed for this report (the folder held no build of this parameter file)."
+        return _write(args, p, out, params_file, parts, mp, note, progress, t0, solve, memo=memo,
+                      plots=functools.partial(report_plots, cache, p), jobs=build_jobs())
+
+
+def _write(args, p, out: Path, params_file: Path, parts, mp, note: str, progress, t0: float, solve: dict | None,
+           memo=None, plots=None, jobs: int | None = 1) -> int:
+    """The rules, the audit and report.html from the parts and mass properties found or made by :func:`run`."""
     from swiftfin.pipeline import report_findings
+    from swiftfin.report.html import ReportTiming, write_report
 
     progress("applying the design rules and recomputing the paper audit")
     findings, audit = report_findings(p, parts, mp)
     timing = ReportTiming()
     path = write_report(p, out, parts=parts, mass_properties=mp, fit_dir=args.fit, findings=findings, audit=audit,
                         progress=progress, params_name=params_file.name, mass_note=note, timing=timing,
-                        solve=solve, solve_name=Path(args.solve).name if args.solve else "")
+                        solve=solve, solve_name=Path(args.solve).name if args.solve else "", memo=memo,
+                        plots=plots, jobs=jobs)
     size = path.stat().st_size
     print(f"swiftfin report: wrote {path} ({size / 1e6:.2f} MB; pictures {timing.render_s:.1f} s, plots "
           f"{timing.plots_s:.1f} s, total {time.perf_counter() - t0:.1f} s)")
