@@ -126,6 +126,24 @@ def default_parts(default_build):
     return [b.spec for b in default_build.parts]
 
 
+LONGEST_FILES_S = {"test_massprops.py": 610, "test_synthesis.py": 500, "test_build.py": 450, "test_hull.py": 420,
+                   "test_sweep.py": 400, "test_vectorised_rules.py": 250, "test_mount.py": 190,
+                   "test_independent_bench.py": 170, "test_dry_check.py": 160}
+"""Seconds the longest test files took in a fresh-clone CI run (2026-11-29, two workers, from pytest's slowest
+durations; the shared fixtures' setup counted where it fell): the order :func:`pytest_collection_modifyitems` starts
+them in. Only an order: a file missing here, or grown, still runs."""
+
+
+def pytest_collection_modifyitems(config, items):
+    """The longest test files first (longest processing time first: :data:`LONGEST_FILES_S`, then the other files
+    holding a ``@pytest.mark.slow`` test), each file's own order kept. ``make test`` hands whole files to the workers
+    in this order (pytest-xdist ``--dist loadfile``), so the long files start early and the short ones fill the end;
+    in name order three of the longest (test_synthesis, test_sweep, test_vectorised_rules: 18 min together) came
+    last and one worker ran alone at the end (74 min of CPU in 48 min of the run on two cores, 2026-11-29)."""
+    slow = {item.path for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: (-LONGEST_FILES_S.get(item.path.name, 0), item.path not in slow))
+
+
 def pytest_addoption(parser):
     parser.addoption("--update-golden", action="store_true", default=False,
                      help="rewrite tests/golden/*.json from the current build (on purpose only)")
