@@ -293,20 +293,44 @@ SEAM_LAND_MARGIN_MM = 0.25
 """The seam face is this much wider than the sheet's least strip: a die-cut edge's placement (+/- 0.2 mm)."""
 
 
+def _seam_land_need_mm(p: Params, s_mm: float) -> float:
+    """How far the shell's wall falls short of the gasket's strip at station ``s_mm`` (may be negative)."""
+    from swiftfin.catalogues.seals import seam_gasket
+    ds = 0.25
+    slope = (hull_section_semi_axes_mm(p, s_mm + ds)[0] - hull_section_semi_axes_mm(p, max(s_mm - ds, 0.0))[0]) / (
+        s_mm + ds - max(s_mm - ds, 0.0))
+    need = (seam_gasket().min_width_mm() + SEAM_LAND_MARGIN_MM) * math.sqrt(1.0 + slope**2)
+    return need - p.hull.wall_thickness_mm
+
+
+@functools.lru_cache(maxsize=64)
+def _piece_needs_land(p: Params, pc: HullPiece) -> bool:
+    """Whether the wall falls short of the gasket's strip anywhere on the piece's cavity (every
+    :data:`LAND_PROBE_STEP_MM`, both ends included)."""
+    c0, c1 = cavity_range_mm(p, pc)
+    n = max(2, int(math.ceil((c1 - c0) / LAND_PROBE_STEP_MM)) + 1)
+    return any(_seam_land_need_mm(p, float(s)) > 0.0 for s in np.linspace(c0, c1, n))
+
+
+LAND_PROBE_STEP_MM = 0.5
+"""Station step at which a piece's cavity is probed for a wall narrower than the gasket's strip [mm]."""
+
+
 def seam_land_mm(p: Params, pc: HullPiece, s_mm: float) -> float:
     """How far inward from the shell's inner wall a sealed piece's seam face is widened at station ``s_mm`` (both
     halves, at the seam plane, measured across the body like the wall), so that the gasket's strip, measured square
     to the skin's line in the plane, is the sheet's least width (catalogues/seals.toml ``min_width_thicknesses``) plus
     :data:`SEAM_LAND_MARGIN_MM`: where the skin's line runs at slope w'(s) to the axis the strip is w / sqrt(1 + w'^2)
-    wide. 0 when the piece has no gasket or its wall is wide enough."""
-    from swiftfin.catalogues.seals import seam_gasket
-    if seam_gasket_gap_mm(p, pc) <= 0:
+    wide. 0 when the piece has no gasket or its wall is wide enough along the whole cavity.
+
+    A piece that needs a land anywhere gets one along its whole cavity, never narrower than one line width
+    (``print.line_width_mm``): the land is a loft of the inner sections shrunk by it, and where it came to nothing
+    that loft met the cavity's own surface, which OpenCascade cannot fuse (a design with a 2.9 mm wall, short by
+    0.03 mm at the cavity's front end only, built no head at all: "expected one solid, got 0"). Narrower than a
+    line, a land would not print anyway."""
+    if seam_gasket_gap_mm(p, pc) <= 0 or not _piece_needs_land(p, pc):
         return 0.0
-    ds = 0.25
-    slope = (hull_section_semi_axes_mm(p, s_mm + ds)[0] - hull_section_semi_axes_mm(p, max(s_mm - ds, 0.0))[0]) / (
-        s_mm + ds - max(s_mm - ds, 0.0))
-    need = (seam_gasket().min_width_mm() + SEAM_LAND_MARGIN_MM) * math.sqrt(1.0 + slope**2)
-    return max(0.0, need - p.hull.wall_thickness_mm)
+    return max(_seam_land_need_mm(p, s_mm), p.print.line_width_mm)
 
 
 def seam_gasket_gap_mm(p: Params, pc: HullPiece) -> float:

@@ -39,8 +39,9 @@ import os
 import pickle
 import shutil
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import Any, Iterator
 
 from swiftfin import __version__
 from swiftfin.core.params import get_key
@@ -217,6 +218,18 @@ def default_cache_dir() -> Path:
 
 def _json_hash(obj: Any) -> str:
     return hashlib.sha256(json.dumps(obj, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
+@contextmanager
+def command_cache(no_cache: bool, cache_dir: str | Path | None) -> Iterator["FamilyCache"]:
+    """The cache a command builds through: ``cache_dir`` (None: :func:`default_cache_dir`), or with ``no_cache`` a
+    temporary one, removed when the command is done (every solid and stage is made afresh, and stages one process
+    makes are still shared within it)."""
+    if not no_cache:
+        yield FamilyCache(cache_dir)
+        return
+    with tempfile.TemporaryDirectory(prefix="swiftfin-no-cache-") as tmp:
+        yield FamilyCache(tmp)
 
 
 class FamilyCache:

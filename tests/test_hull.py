@@ -644,3 +644,32 @@ def test_a_deeper_longer_hull_still_builds_one_valid_solid_per_part():
     head = next(pc for pc in hull_pieces(p) if pc.nose)
     s = piece_solid(p, head)
     assert s.is_valid and len(s.solids()) == 1 and s.volume > 1e5
+
+
+def test_a_wall_short_of_the_gaskets_strip_at_one_end_gets_a_land_all_along():
+    """A 2.9 mm wall on a longer, fuller body holds the gasket's strip along most of the head but not at the nose
+    end of its cavity, where the skin's line runs steepest (0.03 mm short). The land there came to nothing a
+    millimetre on: its loft met the cavity's surface and the head's front piece fused to nothing ("expected one
+    solid, got 0", building a seeded design, 2026-11-29; this design too, checked with the old land). Now a piece
+    that needs a land anywhere has one along its whole cavity, at least a line wide, and builds."""
+    from swiftfin.core.params import replace_key
+    from swiftfin.layout.hull_plan import _seam_land_need_mm, cavity_range_mm, seam_land_mm
+    p = P
+    for key, value in (("hull.wall_thickness_mm", 2.9), ("body.nose_cap_fraction", 0.044),
+                       ("body.height_to_width", 1.27), ("body.naca_thickness_fraction", 0.17),
+                       ("body.length_mm", 630.0)):
+        p = replace_key(p, key, value)
+    pc = next(q for q in hull_pieces(p) if q.name == "hull_head_front")
+    stations = np.linspace(*cavity_range_mm(p, pc), 101)
+    need = np.array([_seam_land_need_mm(p, float(s)) for s in stations])
+    assert need[0] > 0 > need[50]                      # short at the nose end only
+    land = np.array([seam_land_mm(p, pc, float(s)) for s in stations])
+    assert (land >= p.print.line_width_mm).all() and (land >= need).all()
+    for part in piece_parts(p, pc):
+        assert part.solid.is_valid and len(part.solid.solids()) == 1, part.label
+    # a wall wide enough all along the cavity has no land at all; a flooded piece has no gasket, so no land
+    thick = replace_key(P, "hull.wall_thickness_mm", 4.0)
+    pt = next(q for q in hull_pieces(thick) if q.name == "hull_head_front")
+    assert max(_seam_land_need_mm(thick, float(s)) for s in np.linspace(*cavity_range_mm(thick, pt), 101)) < 0
+    assert seam_land_mm(thick, pt, cavity_range_mm(thick, pt)[0]) == 0.0
+

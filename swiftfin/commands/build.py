@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import sys
-import tempfile
 from pathlib import Path
 from swiftfin.commands import DESIGN_HELP
 
@@ -31,15 +30,14 @@ def configure(ap) -> None:
 
 
 def run(args) -> int:
-    from swiftfin.cache import FamilyCache
+    from swiftfin.cache import command_cache
     from swiftfin.pipeline import build, stderr_progress, summary_table
 
     print(f"swiftfin build: {args.params_file} -> {args.out}/", file=sys.stderr, flush=True)
     # --no-cache builds through an empty cache of its own: with none at all (no prefetch processes, no proved pairs or
     # stage results shared within the build) the default design took 13 min 48 s of wall clock and 1 475 s of CPU,
     # through an empty cache 4 min 15 s and 424 s (2026-11-28, idle)
-    with tempfile.TemporaryDirectory(prefix="swiftfin-no-cache-") as tmp:
-        cache = FamilyCache(tmp) if args.no_cache else FamilyCache(args.cache_dir)
+    with command_cache(args.no_cache, args.cache_dir) as cache:
         result = build(args.params_file, args.out, cache=cache, progress=stderr_progress,
                        ros2_package=args.ros2_package, swim=args.swim, calibration=args.calibration)
     print(summary_table(result))

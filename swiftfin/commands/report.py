@@ -179,15 +179,13 @@ def run(args) -> int:
     # no build of this design in DIR: the parts built in memory with the trim ballast, as `swiftfin build` makes
     # them, and the mass model and the pictures through the same rebuild cache (a temporary one with --no-cache)
     import functools
-    import tempfile
 
-    from swiftfin.cache import FamilyCache
+    from swiftfin.cache import command_cache
     from swiftfin.pipeline import build_jobs, build_parts, place_ballast, stage_memo
     from swiftfin.prefetch import report_plots
 
     progress(f"no build of {params_file} in {out}/: building the parts in memory")
-    with tempfile.TemporaryDirectory(prefix="swiftfin-no-cache-") as tmp:
-        cache = FamilyCache(tmp) if args.no_cache else FamilyCache(args.cache_dir)
+    with command_cache(args.no_cache, args.cache_dir) as cache:
         result = build_parts(p, cache, progress)
         place_ballast(result, cache, progress)
         parts, memo = result.parts, stage_memo(result, cache)
