@@ -60,6 +60,7 @@ from swiftfin.cad.clevis import clevis_add, clevis_cut
 from swiftfin.cad.fastening import SLOT_REACH_MM
 from swiftfin.cad.link import JointHardware, all_joint_hardware, box, isect, one_solid, rod
 from swiftfin.cad.part import PartSpec
+from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 
 from swiftfin.layout.hull_plan import (  # noqa: F401  the numbers, re-exported for the part family
@@ -418,9 +419,12 @@ def _piece_split(p: Params, pc: HullPiece):
     a, b = pc.max_semi_axes_mm(p)
     big = 4 * max(a, b) + 100
     x0, x1 = -pc.s_end_mm - 50, -pc.s_start_mm + 50
-    up = one_solid(isect(solid, box(x0, x1, -big, big, 0.0, big)), f"{pc.name}_upper")
+    upper = isect(solid, box(x0, x1, -big, big, 0.0, big))
     lower = isect(solid, box(x0, x1, -big, big, -big, 0.0))
     gap = seam_gasket_gap_mm(p, pc)
+    if not (upper.solids() and lower.solids()):
+        upper, lower = _split_off_plane(solid, pc, (x0, x1), big, gap > 0)
+    up = one_solid(upper, f"{pc.name}_upper")
     slab = None
     if gap > 0:            # to the rear end, or over the splice tabs behind it (no clevis there to keep the plane)
         gasket_box = box(-pc.s_end_mm if pc.rear_joint is not None else x0, x1, -big, big, -gap, 0.0)
@@ -432,6 +436,29 @@ def _piece_split(p: Params, pc: HullPiece):
              PartSpec(f"{pc.name}_lower", lo, pc.link, "hull", print_rotation=(180.0, 0.0, rz),
                       meta=dict(meta, half="lower", seam_gap_mm=gap))]
     return parts, slab
+
+
+SPLIT_SHIFT_MM = 1e-3
+"""How far off the seam plane a piece is split when OpenCascade's exact split at z = 0 comes back empty [mm]: a
+micrometre, far under a layer."""
+
+
+def _split_off_plane(solid: bd.Solid, pc: HullPiece, xs: tuple[float, float], big: float, gasket: bool):
+    """The halves of ``solid`` split :data:`SPLIT_SHIFT_MM` below, else (no ``gasket``) above, the seam plane, the
+    first pair whose volumes add up to the whole (relative 1e-5). A seam plane through the edges where a boss meets
+    the gasket's land can leave the exact common with nothing (a seeded design, 2026-11-29); moved by a micrometre
+    it splits, and the sum proves nothing was lost. Below only under a gasket: the lower half's cut for the gasket's
+    gap (from z = 0 down) would leave a micrometre's sheet of it above the plane."""
+    x0, x1 = xs
+    whole = solid.volume
+    for z in ((-SPLIT_SHIFT_MM,) if gasket else (-SPLIT_SHIFT_MM, SPLIT_SHIFT_MM)):
+        upper = isect(solid, box(x0, x1, -big, big, z, big))
+        lower = isect(solid, box(x0, x1, -big, big, -big, z))
+        if upper.solids() and lower.solids() and abs(upper.volume + lower.volume - whole) <= 1e-5 * abs(whole):
+            return upper, lower
+    raise BuildError(f"{pc.name}: OpenCascade cannot split the piece into its halves at the seam plane (z = 0, nor "
+                     f"{SPLIT_SHIFT_MM:g} mm off it); a nearby hull.wall_thickness_mm or "
+                     f"hull.seam_screw_spacing_mm may build")
 
 
 def piece_parts(p: Params, pc: HullPiece) -> list[PartSpec]:
