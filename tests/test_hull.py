@@ -667,12 +667,11 @@ def test_a_wall_short_of_the_gaskets_strip_at_one_end_gets_a_land_all_along():
     assert (land >= p.print.line_width_mm).all() and (land >= need).all()
     for part in piece_parts(p, pc):
         assert part.solid.is_valid and len(part.solid.solids()) == 1, part.label
-    # a wall wide enough all along the cavity has no land at all; a flooded piece has no gasket, so no land
+    # a wall wide enough all along the cavity has no land at all
     thick = replace_key(P, "hull.wall_thickness_mm", 4.0)
     pt = next(q for q in hull_pieces(thick) if q.name == "hull_head_front")
     assert max(_seam_land_need_mm(thick, float(s)) for s in np.linspace(*cavity_range_mm(thick, pt), 101)) < 0
     assert seam_land_mm(thick, pt, cavity_range_mm(thick, pt)[0]) == 0.0
-
 
 
 def test_a_piece_whose_exact_split_at_the_seam_comes_back_empty_is_split_a_micrometre_below():
