@@ -26,7 +26,7 @@ from swiftfin.layout.fastening import Fastener, check_unique
 FASTENER_PLANS: dict[str, str] = {}
 """Part family -> ``"module:function"``, each ``function(params) -> tuple[Fastener, ...]``."""
 FASTENER_PLANS.update(hull="swiftfin.layout.hull_plan:hull_fasteners", fin="swiftfin.layout.fin_plan:fin_fasteners")
-FASTENER_PLANS.update(spool="swiftfin.cad.spool:spool_fasteners")
+FASTENER_PLANS.update(spool="swiftfin.layout.spool_plan:spool_fasteners")
 FASTENER_PLANS.update(link="swiftfin.layout.link_plan:link_fasteners")
 FASTENER_PLANS.update(mount="swiftfin.cad.mount:mount_fasteners", guide="swiftfin.cad.guide:guide_fasteners")
 

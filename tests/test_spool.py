@@ -12,7 +12,8 @@ from OCP.BRepAdaptor import BRepAdaptor_Surface
 
 from swiftfin.layout import geometry as L
 from swiftfin.cad.registry import family_function
-from swiftfin.cad.spool import make_spools, ridge_width_mm, spool_fasteners, spool_numbers, spool_solid
+from swiftfin.cad.spool import make_spools, spool_solid
+from swiftfin.layout.spool_plan import ridge_width_mm, spool_fasteners, spool_numbers
 from swiftfin.core.errors import UserError
 from swiftfin.core.params import replace_key
 from swiftfin.core.schema import Params
@@ -374,5 +375,23 @@ def test_other_designs_build_valid_spools(changes):
 def test_drum_too_small_for_the_anchors_is_refused():
     """A 10 mm drum passes the schema's wall check but has no room for the anchor holes around the bore."""
     p = replace_key(Params(), "spool.drum_diameter_mm", 10.0)
-    with pytest.raises(UserError, match=r"spool: spool.drum_diameter_mm = 10 leaves no room for the cable anchor"):
+    with pytest.raises(UserError, match=r"spool: spool.drum_diameter_mm = 10: no room for the cable anchor"):
         spool_numbers(p)
+
+
+@pytest.mark.parametrize("raw, key, words", [
+    ({"spool": {"groove_pitch_mm": 1.6}}, "spool.groove_pitch_mm", "raise spool.groove_pitch_mm to at least 1.72"),
+    ({"spool": {"drum_diameter_mm": 10.0}}, "spool.drum_diameter_mm", "no room for the cable anchor holes"),
+    ({"spool": {"index_holes_upper": 40}}, "spool.index_holes_upper", "do not fit on the"),
+])
+def test_the_loader_refuses_spools_that_cannot_be_made_naming_the_key(raw, key, words):
+    """The spools' numbers need no CAD kernel, so the loader makes them (layout/design.py): a design whose spools
+    cannot be made is refused under the key to change, once, before a build starts. Three of six seeded designs the
+    loader accepted were refused by the spool family half-way through ``swiftfin build`` (2026-11-29), and
+    ``swiftfin check`` had passed them to it."""
+    from swiftfin.layout.design import design_problems
+    _, problems = design_problems(raw)
+    assert len(problems) == 1, [str(x) for x in problems]
+    assert problems[0].key == key and words in problems[0].expected, str(problems[0])
+    section, name = key.split(".")
+    assert problems[0].value == raw[section][name]
