@@ -192,6 +192,19 @@ def _unit(v):
     return v / np.linalg.norm(v)
 
 
+def _hole_wall_mm(p: Params) -> float:
+    """The wall kept round a guide screw's hole: the fastener check's (``rules.wall_min_line_widths``) and
+    :data:`~swiftfin.layout.mount_plan.BOSS_MARGIN_MM` (the check measures on the meshes from just inside the hole's
+    surface: a wall of exactly the rule read 0.84 mm of 0.87)."""
+    return p.rules.wall_min_line_widths * p.print.line_width_mm + BOSS_MARGIN_MM
+
+
+def _clear_of_spool_mm(reach_mm: float, dx_mm: float) -> float:
+    """How far off the body axis (|y|) a screw ``dx_mm`` along x from a spool's axis must stand for its hole's edge
+    and wall (``reach_mm`` from the hole's centre to the spool's envelope's radius) to clear the envelope."""
+    return math.sqrt(max(0.0, reach_mm**2 - dx_mm**2))
+
+
 def bend_channel(prev, corner, nxt, radius: float, diameter: float, joint: int, side: int, reach: float) -> Channel:
     """Channel through the corner of the polyline prev -> corner -> next with an arc of ``radius``."""
     a, b, c = (np.asarray(q, dtype=float) for q in (prev, corner, nxt))
@@ -374,15 +387,21 @@ def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
         x_post = mp.x_mm - p.motor.frame_size_mm / 2 + post_r
         hole_r = screw_hole_diameter_mm(p) / 2
         dx = x_post - mp.x_mm
-        # at least one line of wall between the screw hole and the spool's envelope
-        y_post = max(p.motor.hole_spacing_mm / 4,
-                     math.sqrt(max(0.0, (env_r + hole_r + pr.line_width_mm) ** 2 - dx**2)))
+        # the fastener check's wall between the screw hole and the spool's envelope (one line, as it was, left
+        # 0.65 mm of 0.87 on a seeded design's large drum, 2026-11-29)
+        y_post = max(p.motor.hole_spacing_mm / 4, _clear_of_spool_mm(env_r + hole_r + _hole_wall_mm(p), dx))
         hs = p.motor.hole_spacing_mm / 2
         head_gap = math.hypot(abs(dx) - hs, y_post - hs) - post_r - p.motor.mount_screw_diameter_mm
         if head_gap < 0:
             raise UserError(f"{label}: its posts (at {dx:.1f}, +/-{y_post:.1f} mm from the motor axis, clear of "
                             f"spool {mp.joint + 1}'s flange of radius {d.flange_radius_mm:.1f} mm) would sit on the "
                             f"motor's screw heads: use a smaller spool.drum_diameter_mm or spool.flange_height_mm")
+        # a post stands under the block's floor: where it reaches into the spool's envelope in plan (a large drum
+        # on a small frame: 0.77 mm on a seeded design, whose posts then stood 0.4 mm into the lower flange,
+        # 2026-11-29), the floor comes down to the flange's underside less the gap, so the post stops short of it
+        flange_bottom = mp.z_face_mm + d.hub_bottom_mm + d.hub_length_mm - c
+        if math.hypot(dx, y_post) - post_r < env_r and zr[0] > flange_bottom:
+            zr = (flange_bottom, zr[1])
         # trim to the arcs plus one tube diameter of straight channel either side, and the screws
         arcs_x = np.concatenate([arc_points(ch)[:, 0] for ch in chans if ch.angle_rad > 0])
         x_lo = max(x_lo, min(float(arcs_x.min()) - g.ptfe_tube_od_mm, x_post - post_r - wall))
@@ -400,10 +419,17 @@ def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     hole_r = screw_hole_diameter_mm(p) / 2
     plate_top = rear.z_face_mm + d.plate_mm
     x_post = rear.x_mm - F / 2 + post_r
-    # between the rear motor's own two cables (they leave the drum at y = +/- its radius), two lines of wall from each
-    y_post = min(p.motor.hole_spacing_mm / 4, d.drum_radius_mm - r_ch - hole_r - 2 * pr.line_width_mm)
-    screws = ((x_post, y_post), (x_post, -y_post)) if y_post >= post_r else ((x_post, 0.0),)
     env_r = d.flange_radius_mm + c
+    # between the rear motor's own two cables (they leave the drum at y = +/- its radius), two lines of wall from each,
+    # and the fastener check's wall from the rear spool's envelope (the block is cut clear of it over the plate)
+    y_env = _clear_of_spool_mm(env_r + hole_r + _hole_wall_mm(p), x_post - rear.x_mm)
+    y_cables = d.drum_radius_mm - r_ch - hole_r - 2 * pr.line_width_mm
+    y_post = min(max(p.motor.hole_spacing_mm / 4, y_env), y_cables)
+    if y_post < y_env - 1e-9 or (y_post < post_r and y_env > 0.0):
+        raise UserError(f"{label}: no room for its screws between motor 1's two cables (|y| <= {y_cables:.1f} mm) "
+                        f"and clear of spool 1's flange (|y| >= {y_env:.1f} mm): use a smaller "
+                        f"spool.flange_height_mm or guides.screw_diameter_mm")
+    screws = ((x_post, y_post), (x_post, -y_post)) if y_post >= post_r else ((x_post, 0.0),)
     chans = []
     for r in routes:
         pts = r.points_mm

@@ -281,7 +281,8 @@ def test_seeded_sweep_builds_or_refuses_clearly():
 
     from swiftfin.layout.geometry import layout_problems
     from swiftfin.cad.mount import mount_numbers, mount_solid
-    from swiftfin.cad.spool import spool_numbers, spool_solid
+    from swiftfin.cad.spool import spool_solid
+    from swiftfin.layout.spool_plan import spool_numbers
     from swiftfin.core.params import cross_field_problems
     rng = random.Random(20261121)
     built = refused = 0
@@ -304,3 +305,33 @@ def test_seeded_sweep_builds_or_refuses_clearly():
             assert s.is_valid and len(s.solids()) == 1
         built += 1
     assert built >= 3
+
+
+LARGE_DRUM = __import__("pathlib").Path(__file__).parent / "data" / "seeded_large_drum.toml"
+
+
+def test_a_large_drums_posts_and_guide_screws_stay_clear_of_its_spools():
+    """A seeded design (tests/data/seeded_large_drum.toml): a 28 mm drum (flange radius 17.0 mm) on a 42.3 mm frame
+    puts the exit guides' posts, 17.9 mm behind the motor's axis, inside the flange's radius in plan. They stood
+    0.4 mm into the spools' lower flanges (the build's assembly check: 1.6 mm^3 each, 2026-11-29), and the guides'
+    screw holes kept one line (0.65 mm) from the spools' envelope where the fastener check asks two (0.87 mm).
+    Measured on the solids: each mount stands the assembly clearance from its spool's lower half; every guide's screw
+    hole keeps the fastener check's wall from each spool's envelope (the blocks are cut to it)."""
+    from swiftfin.cad.guide import assembly_gap_mm, bare_guide_blocks
+    from swiftfin.cad.mount import make_motor_mounts
+    from swiftfin.cad.spool import spool_solid
+    from swiftfin.layout.design import load_design
+    from swiftfin.layout.spool_plan import spool_numbers
+    p = load_design(LARGE_DRUM)
+    mounts = {s.label: s.solid for s in make_motor_mounts(p)}
+    for n in spool_numbers(p)[1:3]:
+        gap = mounts[f"motor_mount_{n.joint}"].distance_to(spool_solid(n, "lower"))
+        assert gap >= p.print.clearance_assembly_mm, (n.joint, gap)
+    rule = p.rules.wall_min_line_widths * p.print.line_width_mm
+    env = spool_numbers(p)[0].flange_radius_mm + assembly_gap_mm(p)
+    for b in bare_guide_blocks(p):
+        for x, y in b.screw_points_mm:
+            for kx, ky, kr in b.keep_out_mm:
+                assert kr == pytest.approx(env)
+                wall = math.hypot(x - kx, y - ky) - kr - b.screw_hole_diameter_mm / 2
+                assert wall >= rule - 1e-9, (b.label, x, y, wall)
