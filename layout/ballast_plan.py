@@ -26,6 +26,7 @@ What the fill misses of the trim's place is not hidden: the build's mass model u
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -33,7 +34,8 @@ import numpy as np
 from swiftfin.catalogues.ballast import ballast_fill
 from swiftfin.core.schema import Params
 from swiftfin.layout.cradle_plan import bond_gap_mm, inner_semi_axes_mm, wall_mm
-from swiftfin.layout.hull_plan import SEAM_LAND_HEIGHT_MM, cavity_range_mm, hull_pieces, part_label
+from swiftfin.layout.hull_plan import (SEAM_LAND_HEIGHT_MM, SPLICE_LENGTH_MM, cavity_range_mm, hull_pieces,
+                                      part_label)
 
 FILL_LABEL = "trim_ballast"
 DAM_LABEL = "ballast_dam"
@@ -109,6 +111,35 @@ def _window(s: np.ndarray, area: np.ndarray, moment: np.ndarray, volume: float, 
     return float(starts[k]), float(ends[k]), float(v), float(sc), float(zc)
 
 
+def pour_range_mm(p: Params, pc) -> tuple[float, float, bool]:
+    """Stations [lo, hi] a fill and its dams may take in the piece ``pc`` (inside its shell by the bond gap), and
+    whether the front end is closed (the nose cap or a bulkhead: the fill may lie against it without a dam). An open
+    (spliced) end holds neither fill nor dam: the fill would run out of the piece, and the splice's tabs and screws
+    take :data:`~swiftfin.layout.hull_plan.SPLICE_LENGTH_MM` there (as the flotation's blocks keep clear of them)."""
+    gap = bond_gap_mm(p)
+    c0, c1 = cavity_range_mm(p, pc)
+    lo, hi = max(c0, pc.s_start_mm) + gap, min(c1, pc.s_end_mm) - gap
+    if pc.front_cut:
+        lo = max(lo, pc.s_start_mm + SPLICE_LENGTH_MM + gap)
+    if pc.rear_cut:
+        hi = min(hi, pc.s_end_mm - SPLICE_LENGTH_MM - gap)
+    return lo, hi, bool(pc.nose or pc.front_joint is not None)
+
+
+def free_stretches(lo: float, hi: float, blocked) -> list[tuple[float, float]]:
+    """[lo, hi] less the station ranges ``blocked`` ((s0, s1), ...), as the stretches left, fore to aft."""
+    out, u = [], lo
+    for b0, b1 in sorted(blocked):
+        if b0 > u:
+            out.append((u, min(b0, hi)))
+        u = max(u, b1)
+        if u >= hi:
+            break
+    if u < hi:
+        out.append((u, hi))
+    return [(a, b) for a, b in out if b > a]
+
+
 def plan_ballast(p: Params, mass_kg: float, target_x_mm: float, wanted_z_mm: float, link: int,
                  keep_out=(), prefer: tuple | None = None) -> tuple[BallastPlan | None, str]:
     """The fill of ``mass_kg`` (module docstring) for a trim that wants its centre of mass at body x
@@ -126,40 +157,54 @@ def plan_ballast(p: Params, mass_kg: float, target_x_mm: float, wanted_z_mm: flo
     pieces.sort(key=lambda pc: max(0.0, cavity_range_mm(p, pc)[0] - s_t, s_t - cavity_range_mm(p, pc)[1]))
     best, why = None, []
     for pc in pieces:
-        c0, c1 = cavity_range_mm(p, pc)
+        lo, hi, closed_front = pour_range_mm(p, pc)
         for sigma in ((1, -1) if wanted_z_mm >= 0 else (-1, 1)):
-            s = np.arange(c0 + gap, c1 - gap + 1e-9, GRID_MM)
-            ab = np.array([inner_semi_axes_mm(p, float(si), gap) for si in s])
-            a, b = ab[:, 0], ab[:, 1]
+            s_all = np.arange(lo, hi + 1e-9, GRID_MM)
+            ab = np.array([inner_semi_axes_mm(p, float(si), gap) for si in s_all]).reshape(-1, 2)
+            # (station range, |z| reach toward the fill's half) of each part inside
+            parts = [(lab, -hi_[0], -lo_[0], hi_[2] if sigma > 0 else -lo_[2]) for lab, lo_, hi_ in keep_out
+                     if -hi_[0] < hi + clr and -lo_[0] > lo - clr]
             floor = SEAM_LAND_HEIGHT_MM + clr + DAM_RISE_MM     # the dams' edge clear of the land
             half, met, fitted = ("upper" if sigma > 0 else "lower"), set(), False
-            for level in np.arange(floor, float(np.max(b)), LEVEL_STEP_MM):
-                area, moment = segment(a, b, level)
-                inner = s <= c1 - gap - dam_t                   # room for the aft dam
-                w = _window(s[inner], area[inner], moment[inner], volume, s_t)
-                if w is None:
+            for level in np.arange(floor, float(np.max(ab[:, 1], initial=0.0)), LEVEL_STEP_MM):
+                # the fill (|z| >= level) keeps clear of every part reaching past level - clr; a dam (|z| >= level -
+                # DAM_RISE_MM) of every part reaching past that less clr
+                fill_block = [q for q in parts if q[3] > level - clr]
+                dam_block = [q for q in parts if q[3] > level - DAM_RISE_MM - clr]
+                held = False
+                for u, v in free_stretches(lo, hi, [(q[1] - clr, q[2] + clr) for q in fill_block]):
+                    # against the nose cap or a bulkhead the fill may start with no dam (then at the stretch's
+                    # start exactly: the least target picks it); anywhere else a dam stands ahead of it
+                    starts = ((u + dam_t, s_t, True),) + (((u, -math.inf, False),) if closed_front and u <= lo + 1e-9
+                                                          else ())
+                    for first, target, front_dam in starts:
+                        grid = (s_all >= first - 1e-9) & (s_all <= v - dam_t + 1e-9)
+                        if np.count_nonzero(grid) < 2:
+                            continue
+                        area, moment = segment(ab[grid, 0], ab[grid, 1], level)
+                        w = _window(s_all[grid], area, moment, volume, target)
+                        if w is None:
+                            continue
+                        held = True
+                        s0, s1, v_, sc, zc = w
+                        dams = (((s0 - dam_t, s0),) if front_dam else ()) + ((s1, s1 + dam_t),)
+                        blocked = [q[0] for q in dam_block for d0, d1 in dams if q[1] < d1 + clr and q[2] > d0 - clr]
+                        if blocked:
+                            met.update(blocked)
+                            continue
+                        fitted = True
+                        kept = (prefer is not None and (pc.name, sigma) == tuple(prefer[:2])
+                                and abs(level - prefer[2]) < 1e-9)
+                        key = (round(abs(sc - s_t), 1), not kept, abs(sigma * zc - wanted_z_mm))
+                        if best is None or key < best[0]:
+                            best = (key, pc, sigma, s0, s1, dams, float(level), v_, sc, zc)
+                met.update(q[0] for q in fill_block)
+                if not held and not fill_block:
                     break                                       # higher levels hold less
-                s0, s1, v, sc, zc = w
-                dams = (((s0 - dam_t, s0),) if s0 > c0 + gap + 1e-6 else ()) + ((s1, s1 + dam_t),)
-                if dams[0][0] < c0 + gap - 1e-9:
-                    continue
-                lo_s, hi_s = dams[0][0], dams[-1][1]
-                blocked = [lab for lab, lo, hi in keep_out if -hi[0] < hi_s + clr and -lo[0] > lo_s - clr
-                           and (hi[2] if sigma > 0 else -lo[2]) > level - DAM_RISE_MM - clr]
-                if blocked:
-                    met.update(blocked)
-                    continue
-                fitted = True
-                kept = prefer is not None and (pc.name, sigma) == tuple(prefer[:2]) and abs(level - prefer[2]) < 1e-9
-                key = (round(abs(sc - s_t), 1), not kept, abs(sigma * zc - wanted_z_mm))
-                if best is None or key < best[0]:
-                    best = (key, pc, sigma, s0, s1, dams, float(level), v, sc, zc)
             if not fitted:
                 why.append(f"{pc.name}'s {half} half: " + (f"every level that holds {volume / 1000:.2f} cm^3 of fill "
                                                          f"meets {', '.join(sorted(met))}" if met else
                                                          f"no level holds {volume / 1000:.2f} cm^3 of fill"))
-        if best is not None:
-            break
     if best is None:
         return None, "; ".join(dict.fromkeys(why)) or f"link {link} has no hull piece"
     _, pc, sigma, s0, s1, dams, level, v, sc, zc = best

@@ -117,3 +117,33 @@ def test_no_room_is_said(default_params):
     assert plan is None and "blocker" in why
     plan, why = plan_ballast(p, 50.0, -100.0, 10.0, 0, ())
     assert plan is None and "holds" in why
+
+
+def test_a_fill_against_the_nose_cap_keeps_clear_of_a_part_over_its_middle(default_params):
+    """Against the nose cap the fill has no front dam; a part standing in its stretch (not over its aft dam) is kept
+    clear all the same. Until 2026-11-29 the plan looked for parts over the span of the dams only, which without a
+    front dam was the aft dam alone: a seeded design's 2.8 kg fill was poured through its battery and the battery's
+    cradle (1.2 and 1.3 cm^3; the build's assembly check found them and refused the design)."""
+    p = default_params
+    clr = p.print.clearance_assembly_mm
+    free, why = plan_ballast(p, 0.03, -20.0, 10.0, 0, ())
+    assert why == "" and len(free.dams) == 1, "the fill lies against the nose cap, its one dam aft"
+    mid = 0.5 * sum(free.s_mm)
+    box = ("blocker", (-(mid + 2.0), -80.0, -80.0), (-(mid - 2.0), 80.0, 80.0))
+    plan, why = plan_ballast(p, 0.03, -20.0, 10.0, 0, [box])
+    assert why == "" and plan is not None
+    for s0, s1 in (plan.s_mm, *plan.dams):
+        assert s1 <= mid - 2.0 - clr + 1e-9 or s0 >= mid + 2.0 + clr - 1e-9, (s0, s1)
+
+
+def test_a_fill_at_a_spliced_end_gets_a_dam_clear_of_the_splice(default_params):
+    """A piece's open (spliced) front end holds no fill: the fill would run out of the piece when poured, and the
+    splice's tabs and screws take SPLICE_LENGTH_MM behind the cut. A fill wanted there starts behind a dam that
+    stands clear of them (it used to start 1 mm ahead of the piece, with no dam)."""
+    from swiftfin.layout.hull_plan import SPLICE_LENGTH_MM, hull_pieces
+    p = default_params
+    pc = next(q for q in hull_pieces(p) if q.front_cut and q.link == 0)
+    plan, why = plan_ballast(p, 0.03, -(pc.s_start_mm + 2.0), 10.0, 0, ())
+    assert why == "" and plan.piece == pc.name
+    assert plan.dams[0][1] == pytest.approx(plan.s_mm[0])
+    assert plan.dams[0][0] >= pc.s_start_mm + SPLICE_LENGTH_MM
