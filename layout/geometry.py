@@ -223,12 +223,33 @@ def tendon_level_mm(p: Params, joint: int, side: int) -> float:
     return (n - 1 - joint) * 2 * pitch + side * pitch / 2
 
 
+@functools.lru_cache(maxsize=256)
 def tube_seat_shoulder_mm(p: Params) -> float:
     """Length along the cable of the printed shoulder each PTFE tube is pushed against (its seat): the tube's bore
     ends flat and the part goes on as the cable's exit hole (:func:`cable_exit_hole_mm`) for
-    :data:`MIN_WEB_LINES` line widths, the least printed web. The other end of the tube is the open mouth it goes
-    in by; what keeps it from walking back out is its bond (``cad/cables.py``, tube retention)."""
-    return MIN_WEB_LINES * p.print.line_width_mm
+    :data:`MIN_WEB_LINES` line widths, the least printed web, or as many more whole line widths as it takes to hold
+    the friction of the most turned guide's cable at its breaking strength: the printed ring sheared through,
+    ``shear allowable x pi x bore x length >= T_break (1 - e^(-mu theta))`` (the check of ``cad/cables.py``, tube
+    retention, which measures each tube's own turn on the built tubes). A seeded design's bay guide turned its outer
+    lanes by 73 deg, 111 N against the 100 N two lines hold (2026-11-29); the default's 58 deg needs the two. The other
+    end of the tube is the open mouth it goes in by; what keeps it from walking back out is its bond."""
+    from swiftfin.catalogues.printed_strength import printed_strength
+    lw = p.print.line_width_mm
+    theta = max_guide_turn_rad(p)
+    drag = p.cable.breaking_strength_n * (1.0 - math.exp(-p.guides.mu_ptfe * theta))
+    per_mm = printed_strength(p.print.material).shear_allowable_mpa * math.pi * tube_bore_diameter_mm(p, "guide")
+    return max(MIN_WEB_LINES, math.ceil(drag / per_mm / lw - 1e-9)) * lw
+
+
+def max_guide_turn_rad(p: Params) -> float:
+    """The most any cable turns inside one PTFE guide [rad]: its exit bend, or its drop and bay bends together (one
+    tube in the bay guide holds both)."""
+    worst = 0.0
+    for r in cable_routes(p):
+        exit_ = sum(b.angle_rad for b in r.bends if b.kind == "exit")
+        bay = sum(b.angle_rad for b in r.bends if b.kind in BAY_GUIDE_BENDS)
+        worst = max(worst, exit_, bay)
+    return worst
 
 
 MIN_TUBE_MM = 1.0

@@ -341,3 +341,23 @@ def test_cables_and_tubes_clear_every_part_over_the_range(placed_parts, cable_me
     the neighbouring lanes' tubes were 0.17-0.24 mm apart."""
     stats = check_assembly(P, placed_parts + cable_meshes, focus={q.label for q in cable_meshes})
     assert stats["pairs"] > len(cable_meshes)
+
+
+def test_a_guide_that_turns_its_cables_further_gets_a_longer_shoulder():
+    """The tube's printed shoulder holds the friction of its cable at the breaking strength. Two lines hold the
+    default's tubes (its guides turn a cable 58 deg at most); a seeded design's bay guide turns its outer lanes by
+    up to 73 deg, 111 N against the 100 N two lines hold (the build refused it, 2026-11-29). Its shoulder is now as
+    many whole lines as that needs, every built tube's retention (its own turn, measured on its centre line) passes,
+    and every tube of its guides still finds its seat."""
+    from pathlib import Path
+    from swiftfin.cad.guide import guide_blocks, is_chain_end
+    from swiftfin.layout.design import load_design
+    assert L.tube_seat_shoulder_mm(P) == pytest.approx(2 * P.print.line_width_mm)
+    p = load_design(Path(__file__).parent / "data" / "seeded_large_drum.toml")
+    assert L.tube_seat_shoulder_mm(p) == pytest.approx(3 * p.print.line_width_mm)
+    tubes = C.tube_runs(p)
+    assert max(C.tube_turn_rad(t) for t in tubes) > math.radians(70)
+    assert C.tube_retention_problems(p, tubes) == []
+    for b in guide_blocks(p):
+        ends = [(ch.joint, ch.side) for ch in b.channels if is_chain_end(b, ch)]
+        assert all(b.tube_seat(j, s) is not None for j, s in ends), b.label
