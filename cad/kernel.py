@@ -27,3 +27,19 @@ def __getattr__(name: str):
         return getattr(build123d, name)
     except AttributeError:
         raise AttributeError(f"module 'swiftfin.cad.kernel' (build123d) has no attribute {name!r}") from None
+
+
+#: Relative accuracy asked of OpenCascade's adaptive volume integration. The fixed-order default (``Shape.volume``)
+#: was up to 0.5 % off on lofted parts (caudal_fin +0.49 % volume, hull_head_front_lower +0.20 %), 1.3 % on a seeded
+#: design's head piece (2026-11-29); adaptive at 1e-6 costs at most 0.7 s per part (the fin) and its reported error
+#: bound is below 1e-6 on every part of the default design.
+VOLUME_EPS = 1e-6
+
+
+def precise_volume_mm3(shape) -> float:
+    """The shape's volume by OpenCascade's adaptive integration to :data:`VOLUME_EPS` [mm^3]."""
+    from OCP.BRepGProp import BRepGProp
+    from OCP.GProp import GProp_GProps
+    g = GProp_GProps()
+    BRepGProp.VolumeProperties_s(getattr(shape, "wrapped", shape), g, VOLUME_EPS)
+    return float(g.Mass())

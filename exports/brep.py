@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from swiftfin.cad.kernel import VOLUME_EPS
 from swiftfin.core import units
 from swiftfin.exports.inertia import Inertial, make_inertial
 
@@ -174,10 +175,6 @@ def _wrapped(shape):
     return shape.wrapped if hasattr(shape, "wrapped") else shape
 
 
-#: Relative accuracy asked of OpenCascade's adaptive volume integration. The fixed-order default was up to 0.5 %
-#: off on lofted parts (caudal_fin +0.49 % volume, hull_head_front_lower +0.20 %); adaptive at 1e-6 costs at most
-#: 0.7 s per part (the fin) and its reported error bound is below 1e-6 on every part of the default design.
-VOLUME_EPS = 1e-6
 
 
 def solid_volume_props(shape) -> VolumeProps:
