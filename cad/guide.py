@@ -41,8 +41,8 @@ from swiftfin.cad.kernel import Edge, Face, Plane, Solid, Transition, Wire
 
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.layout.fastening import Fastener
-from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, cable_exit_hole_mm, cable_routes, half_height_mm,
-                                      motor_placements, naca_half_width_mm, spool_dims, tube_bore_diameter_mm,
+from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, MOTOR_PITCH_GAP_MM, cable_exit_hole_mm, cable_routes,
+                                      half_height_mm, motor_placements, naca_half_width_mm, spool_dims, tube_bore_diameter_mm,
                                       tube_seat_shoulder_mm)
 from swiftfin.layout.mount_plan import BOSS_MARGIN_MM, motor_screw_fit
 from swiftfin.cad.part import PartSpec
@@ -190,6 +190,10 @@ def screw_hole_diameter_mm(p: Params) -> float:
 def _unit(v):
     v = np.asarray(v, dtype=float)
     return v / np.linalg.norm(v)
+
+
+POST_STEP_MM = 0.05
+"""Step aft of an exit guide's posts, from just inside the motor frame's edge, while they meet a screw head."""
 
 
 def _hole_wall_mm(p: Params) -> float:
@@ -384,14 +388,19 @@ def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
         zs = [ch.t2[2] for ch in chans]
         y_half = max(ys) + r_ch + wall
         zr = (min(zs) - r_ch - wall, max(zs) + r_ch + wall)
-        x_post = mp.x_mm - p.motor.frame_size_mm / 2 + post_r
         hole_r = screw_hole_diameter_mm(p) / 2
-        dx = x_post - mp.x_mm
-        # the fastener check's wall between the screw hole and the spool's envelope (one line, as it was, left
-        # 0.65 mm of 0.87 on a seeded design's large drum, 2026-11-29)
-        y_post = max(p.motor.hole_spacing_mm / 4, _clear_of_spool_mm(env_r + hole_r + _hole_wall_mm(p), dx))
         hs = p.motor.hole_spacing_mm / 2
-        head_gap = math.hypot(abs(dx) - hs, y_post - hs) - post_r - p.motor.mount_screw_diameter_mm
+        # the posts stand just inside the motor frame's aft edge, the fastener check's wall between each screw hole
+        # and the spool's envelope (one line, as it was, left 0.65 mm of 0.87 on a seeded design's large drum,
+        # 2026-11-29), clear of the motor's screw heads; where a large drum leaves no room between the two, they
+        # step aft (their plate's edge toward the mount behind, keeping the assembly gap from it)
+        for back in np.arange(0.0, max(MOTOR_PITCH_GAP_MM - wall - c, 0.0) + 1e-9, POST_STEP_MM):
+            x_post = float(mp.x_mm - p.motor.frame_size_mm / 2 + post_r - back)
+            dx = x_post - mp.x_mm
+            y_post = max(p.motor.hole_spacing_mm / 4, _clear_of_spool_mm(env_r + hole_r + _hole_wall_mm(p), dx))
+            head_gap = math.hypot(abs(dx) - hs, y_post - hs) - post_r - p.motor.mount_screw_diameter_mm
+            if head_gap >= 0:
+                break
         if head_gap < 0:
             raise UserError(f"{label}: its posts (at {dx:.1f}, +/-{y_post:.1f} mm from the motor axis, clear of "
                             f"spool {mp.joint + 1}'s flange of radius {d.flange_radius_mm:.1f} mm) would sit on the "
@@ -418,16 +427,23 @@ def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     F = p.motor.frame_size_mm
     hole_r = screw_hole_diameter_mm(p) / 2
     plate_top = rear.z_face_mm + d.plate_mm
-    x_post = rear.x_mm - F / 2 + post_r
     env_r = d.flange_radius_mm + c
     # between the rear motor's own two cables (they leave the drum at y = +/- its radius), two lines of wall from each,
-    # and the fastener check's wall from the rear spool's envelope (the block is cut clear of it over the plate)
-    y_env = _clear_of_spool_mm(env_r + hole_r + _hole_wall_mm(p), x_post - rear.x_mm)
+    # and the fastener check's wall from the rear spool's envelope (the block is cut clear of it over the plate),
+    # clear of the motor's screw heads: just inside the frame's aft edge, or stepped aft (a large drum) until they fit
     y_cables = d.drum_radius_mm - r_ch - hole_r - 2 * pr.line_width_mm
-    y_post = min(max(p.motor.hole_spacing_mm / 4, y_env), y_cables)
-    if y_post < y_env - 1e-9 or (y_post < post_r and y_env > 0.0):
-        raise UserError(f"{label}: no room for its screws between motor 1's two cables (|y| <= {y_cables:.1f} mm) "
-                        f"and clear of spool 1's flange (|y| >= {y_env:.1f} mm): use a smaller "
+    hs = p.motor.hole_spacing_mm / 2
+    for back in np.arange(0.0, post_r + 1e-9, POST_STEP_MM):
+        x_post = float(rear.x_mm - F / 2 + post_r - back)
+        dx = x_post - rear.x_mm
+        y_env = _clear_of_spool_mm(env_r + hole_r + _hole_wall_mm(p), dx)
+        y_post = min(max(p.motor.hole_spacing_mm / 4, y_env), y_cables)
+        fits = not (y_post < y_env - 1e-9 or (y_post < post_r and y_env > 0.0))
+        if fits and math.hypot(abs(dx) - hs, y_post - hs) >= post_r + p.motor.mount_screw_diameter_mm:
+            break
+    else:
+        raise UserError(f"{label}: no room for its screws between motor 1's two cables (|y| <= {y_cables:.1f} mm), "
+                        f"clear of spool 1's flange and of the motor's screw heads: use a smaller "
                         f"spool.flange_height_mm or guides.screw_diameter_mm")
     screws = ((x_post, y_post), (x_post, -y_post)) if y_post >= post_r else ((x_post, 0.0),)
     chans = []
