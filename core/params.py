@@ -274,6 +274,12 @@ def cross_field_problems(p: Params) -> list[Problem]:
         out.append(Problem("hull.flooded_from_joint", p.hull.flooded_from_joint,
                            f"must be a joint 1..{j.count}, or {j.count + 1} for a hull sealed throughout "
                            f"(joints.count = {j.count})"))
+    elif p.hull.flooded_from_joint != 1 and j.count >= 1:
+        out.append(Problem("hull.flooded_from_joint", p.hull.flooded_from_joint,
+                           "only the head can be sealed (1): a sealed segment behind it would need its own glands "
+                           "in both walls and a closed clevis room for the joint behind it, which the build does not "
+                           "make (a seeded design sealed to joint 4 was refused by the build's dry-compartment check: "
+                           "the clevis rooms of joints 1-3 open the walls between its sealed segments)"))
     n_flooded = max(0, j.count + 1 - p.hull.flooded_from_joint)
     if p.environment.flotation_foam_segments > n_flooded:
         out.append(Problem("environment.flotation_foam_segments", p.environment.flotation_foam_segments,

@@ -653,6 +653,7 @@ class _Group:
         count, bend, length = (np.zeros((2, n, N)) for _ in range(3))
         bad = np.zeros(N, bool)
         zeros = np.zeros(N)
+        self.guide_turn = np.zeros(N)      # layout.geometry.max_guide_turn_rad: exit, or drop + bay, in one guide
         for j in range(n):
             x_m = -self.motor_s[j]
             for si, side in enumerate((1, -1)):
@@ -679,6 +680,8 @@ class _Group:
                 cosang = (seg[:-1] * seg[1:]).sum(axis=1) / (norm[:-1] * norm[1:])
                 ang = np.arccos(np.clip(cosang, -1.0, 1.0))
                 count[si, j] = (ang > MIN_GUIDE_BEND_RAD).sum(axis=0)
+                held = ang[0] if j == 0 else np.maximum(ang[0], ang[1] + ang[2])   # bends: bay | exit, drop, bay
+                self.guide_turn = np.maximum(self.guide_turn, np.nan_to_num(held))
                 tot = zeros
                 for q in range(len(ang)):      # sum(b.angle_rad for b in bends), in order
                     tot = tot + ang[q]
@@ -902,6 +905,19 @@ class _Group:
                       cap_min=cap_min,
                       mean_pos_power=np.clip(self.tau_half * self.thetad_half, 0.0, None).mean(axis=1).sum(axis=0))
 
+    def shoulder_mm(self):
+        """``layout.geometry.tube_seat_shoulder_mm``: whole lines, at least two, holding the most turned guide's
+        friction at the cable's breaking strength (after :meth:`routes`)."""
+        c = self.col
+        lw = c("print.line_width_mm")
+        drag = c("cable.breaking_strength_n") * (1.0 - np.exp(-c("guides.mu_ptfe") * self.guide_turn))
+        mats = c("print.material")
+        shear = np.empty(self.N)
+        for name in set(mats.tolist()):
+            shear[mats == name] = printed_strength(name).shear_allowable_mpa
+        per_mm = shear * math.pi * (c("guides.ptfe_tube_od_mm") + c("print.clearance_sliding_mm"))
+        return np.maximum(MIN_WEB_LINES, np.ceil(drag / per_mm / lw - 1e-9)) * lw
+
     # ---------------------------------------------------------------- heat (design_rules.rules._heat)
     def heat(self):
         c, n, N = self.col, self.n, self.N
@@ -911,7 +927,7 @@ class _Group:
         # dry_wall_m2: the cavity ends at the rear wall's front face (layout.hull_plan.dry_bulkhead: the last sealed
         # segment's end less the wall, as thick as the cable glands need and never thinner than a bulkhead)
         rear_m = np.where(inside, np.maximum(c("hull.bulkhead_thickness_mm"), c("hull.cable_gland_length_mm")
-                                             + MIN_WEB_LINES * c("print.line_width_mm")), 0.0)
+                                             + self.shoulder_mm()), 0.0)
         s_end = np.where(inside, np.take_along_axis(self.seg_end, kk[None], axis=0)[0] - rear_m, self.hend)
         rear_m = rear_m * 1e-3
         # the perimeter of the section (a, H a) is pi (1 + H) a R(H) (Ramanujan II with its
@@ -1233,11 +1249,12 @@ def _draw_of_run_time(p: Params, findings) -> float:
 def _sized_as_a_designer_would(p: Params) -> Params:
     """``p`` with two sizes a designer picks from the rest rather than by chance: the smallest catalogue hull screw
     its motor mounts' wall fixings can be made with (a strong motor on a small drum pulls its mount so hard that an
-    M2's pad floor outgrows every M2 length), and as many foam blocks (up to the default's) as its flooded segments
+    M2's pad floor outgrows every M2 length), front bulkheads at least as thick as that screw's inserts are long
+    (the link flanges' inserts go in them), and as many foam blocks (up to the default's) as its flooded segments
     have room for, and cable glands as long as its stroke and design depth need (:func:`gland_length_needed_mm`). A
     size that cannot be made stays as drawn (the loader then says why). No draw: the random stream stays as it
     was."""
-    from swiftfin.catalogues.fasteners import screw_diameters_mm
+    from swiftfin.catalogues.fasteners import fastener, screw_diameters_mm
     from swiftfin.core.errors import BuildError, UserError
     from swiftfin.core.params import replace_key
     from swiftfin.layout.flotation_plan import foam_blocks
@@ -1256,6 +1273,10 @@ def _sized_as_a_designer_would(p: Params) -> Params:
         return p
 
     p = first_made("hull.screw_diameter_mm", screw_diameters_mm(), wall_fixings)
+    # the front bulkheads hold the link flange screws' inserts: at least as thick as they are long
+    insert = fastener(p.hull.screw_diameter_mm).insert_length_mm
+    if p.hull.bulkhead_thickness_mm < insert:
+        p = replace_key(p, "hull.bulkhead_thickness_mm", insert)
     p = first_made("environment.flotation_foam_segments",
                    range(p.environment.flotation_foam_segments, -1, -1), foam_blocks)
     p = replace_key(p, "hull.cable_gland_length_mm", gland_length_needed_mm(p))
@@ -1359,7 +1380,9 @@ def seeded_designs(n: int, seed: int = 16, check_layout: bool = True, max_draws:
         d["body"].update(length_mm=u(420, 700), naca_thickness_fraction=u(0.12, 0.20), height_to_width=u(1.2, 2.0),
                          nose_cap_fraction=u(0.02, 0.06), hull_end_fraction=u(0.88, 0.95))
         d["hull"].update(wall_thickness_mm=u(1.2, 3.0), bulkhead_thickness_mm=u(2, 4),
-                         split_halves=bool(rng.random() < 0.7), flooded_from_joint=int(rng.integers(1, k + 2)))
+                         split_halves=bool(rng.random() < 0.7), flooded_from_joint=1)
+        rng.integers(1, k + 2)      # (drawn as the sealed joint once was: the stream stays as it was; only the
+        #                             head can be sealed, core/params.py)
         rates = np.unique(np.sort(u(0, 9000, int(rng.integers(4, 8)))) * u(0.5, 2.0))
         if rng.random() < 0.7:
             rates[0] = 0.0

@@ -148,7 +148,23 @@ def joint_hardware(p: Params, j: int) -> JointHardware:
 def joint_link_problems(p: Params) -> list[Problem]:
     """Designs the schema and :func:`swiftfin.layout.geometry.layout_problems` accept but whose joint links cannot be built
     (tendon wrap, stop blocks, flange screws or hinge pins without room). Meant to be joined to the layout problems."""
-    return [pr for j in range(1, p.joints.count + 1) for pr in _joint_hardware(p, j)[1]]
+    return flange_insert_problems(p) + [pr for j in range(1, p.joints.count + 1) for pr in _joint_hardware(p, j)[1]]
+
+
+def flange_insert_problems(p: Params) -> list[Problem]:
+    """A front bulkhead too thin for the heat-set inserts of the link's flange screws (``hull.screw_diameter_mm``)
+    that go into it: each insert sits in its pocket from the bulkhead's face and needs printed wall round its whole
+    length (the pocket's extra depth, for the melt, may open into the hollow). A seeded design's 2.17 mm bulkheads
+    left every M2 insert's last 0.8 mm in the hollow: the build's fastener check refused it (2026-11-29)."""
+    if p.joints.count == 0:
+        return []
+    s = fastener(p.hull.screw_diameter_mm)
+    depth = s.insert_length_mm
+    if p.hull.bulkhead_thickness_mm >= depth - 1e-9:
+        return []
+    return [Problem("hull.bulkhead_thickness_mm", p.hull.bulkhead_thickness_mm,
+                    f"the joint links' flange screws ({s.name}, hull.screw_diameter_mm) go into heat-set inserts in "
+                    f"each segment's front bulkhead, {depth:g} mm long: at least {depth:g} mm")]
 
 
 def passage_lines_mm(p: Params, x_mm: float) -> tuple[tuple[tuple, tuple], ...]:

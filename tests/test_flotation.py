@@ -77,10 +77,14 @@ def test_loader_refuses_more_blocks_than_flooded_segments():
     assert "1 flooded segment" in text
 
 
-def test_an_all_sealed_hull_with_no_foam_loads():
+def test_a_hull_sealed_behind_the_head_is_refused_naming_the_key():
+    """Only the head can be sealed: a sealed segment behind it would need glands in both its walls and a closed
+    clevis room for the joint behind it, which the build does not make (a seeded design sealed to joint 4 got as far
+    as the build's dry-compartment check, 2026-11-29). Sealed throughout, with no foam, it is refused for that alone."""
     raw = {"hull": {"flooded_from_joint": P.joints.count + 1}, "environment": {"flotation_foam_segments": 0}}
     _, problems = design_problems(raw)
-    assert problems == []
+    assert [pr.key for pr in problems] == ["hull.flooded_from_joint"]
+    assert "only the head can be sealed" in problems[0].expected
 
 
 def test_loader_refuses_a_block_with_no_room_naming_the_key_once():

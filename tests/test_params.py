@@ -53,6 +53,7 @@ BAD_FILES = [
     ("[motor]\nmicrosteps = 12\n", ["motor.microsteps = 12", "expected one of"]),
     ("[hull]\nsplit_halves = 1\n", ["hull.split_halves = 1", "expected true or false"]),
     ("[hull]\nflooded_from_joint = 7\n", ["hull.flooded_from_joint = 7", "or 5 for a hull sealed throughout"]),
+    ("[hull]\nflooded_from_joint = 2\n", ["hull.flooded_from_joint = 2", "only the head can be sealed"]),
     ("[environment]\ntrim_ballast = 'yes'\n", ["environment.trim_ballast = 'yes'", "expected true or false"]),
     ("[bodyy]\nlength_mm = 520\n", ["bodyy", "did you mean 'body'"]),
     ("[cable]\npretension_n = 400\n", ["cable.pretension_n = 400", "below cable.breaking_strength_n"]),

@@ -564,11 +564,9 @@ def test_solve_section_from_a_real_solve(tmp_path, default_params):
     decoded, its rows fastest first, the rules that stop it; a page without --solve says how to add one."""
     from swiftfin.cli import main
     from swiftfin.core.params import dump_toml
-    from swiftfin.design_rules.vectorised import evaluate, seeded_designs
+    from tests.test_synthesis import one_rule_short_design
 
-    designs = seeded_designs(48)
-    fails = (evaluate(designs).severity == int(Severity.FAIL)).sum(axis=1)
-    p = designs[int(np.nonzero(fails == 1)[0][0])]
+    p = one_rule_short_design()
     (tmp_path / "d.toml").write_text(dump_toml(p), encoding="utf-8")
     vary = f"cable.pretension_n=1:{0.9 * p.cable.breaking_strength_n:.1f}"
     assert main(["solve", str(tmp_path / "d.toml"), "--vary", vary, "--vary", "swimming.tail_beat_frequency_hz=0.2:3",

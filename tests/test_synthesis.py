@@ -3,6 +3,7 @@
 closed forms where the answer is known."""
 from __future__ import annotations
 
+import functools
 import json
 import subprocess
 import sys
@@ -27,16 +28,38 @@ def _failing(p: Params) -> set[str]:
     return {f.rule_id for f in run_rules(RuleContext(p)) if f.severity == Severity.FAIL}
 
 
+HEAT_RULES = frozenset({"heat.motor_mount", "heat.dry_compartment"})
+
+
+@functools.lru_cache(maxsize=1)
+def one_rule_short_design() -> Params:
+    """A seeded design that fails one rule only, the pretension band (10-20 % of its breaking strength), from below:
+    the first of 96 that fails it and, of the rest, at most the heat rules, run in cold water (10 C) with the air
+    inside stirred to 15 W/m^2 K (the sampler's ends) and given a motor with a quarter more holding torque (at the
+    band's edge the pretension raises the peak load the holding-torque rule weighs), none of which the search
+    touches. (Since only the head can be sealed, its air runs warmer: none of 528 seeded designs failed the
+    pretension band alone, 2026-11-29; the first to fail it with the heat rules alone failed the holding torque at
+    the band's edge, 1.87 of 2.)"""
+    designs = seeded_designs(96)
+    res = evaluate(designs)
+    for p, row in zip(designs, res.severity == int(Severity.FAIL)):
+        failing = {res.rule_ids[j] for j in np.nonzero(row)[0]}
+        if "paper.pretension_fraction" not in failing or failing - HEAT_RULES != {"paper.pretension_fraction"} \
+                or p.cable.pretension_n >= 0.1 * p.cable.breaking_strength_n:
+            continue
+        d = to_dict(p)
+        q = params_from_dict({**d, "environment": {**d["environment"], "water_temperature_c": 10.0,
+                                                   "heat_transfer_air_w_m2_k": 15.0},
+                              "motor": {**d["motor"], "holding_torque_nm": 1.25 * p.motor.holding_torque_nm}})
+        if _failing(q) == {"paper.pretension_fraction"}:
+            return q
+    raise AssertionError("no seeded design of 96 fails the pretension band alone, cooled and with a stronger motor")
+
+
 @pytest.fixture(scope="module")
 def one_rule_short() -> Params:
-    """A seeded design that fails one rule only, the pretension band (5-20 % of its breaking strength)."""
-    designs = seeded_designs(48)
-    sev = evaluate(designs).severity
-    fails = (sev == int(Severity.FAIL)).sum(axis=1)
-    i = int(np.nonzero(fails == 1)[0][0])
-    p = designs[i]
-    assert _failing(p) == {"paper.pretension_fraction"}
-    return p
+    """A seeded design that fails one rule only, the pretension band (:func:`one_rule_short_design`)."""
+    return one_rule_short_design()
 
 
 def test_one_key_lands_on_the_closed_form_boundary(one_rule_short):
