@@ -46,7 +46,8 @@ def test_passing_design_exits_0(tmp_path, capsys):
 
 
 def test_bad_design_fails_the_named_rules(tmp_path, capsys):
-    params = _write(tmp_path, "bad.toml", "[spool]\ndrum_diameter_mm = 12.0\n[cable]\ndiameter_mm = 1.0\n"
+    # a drum just under 20 cable diameters (a 12 mm one has no room for the spool: the loader refuses it)
+    params = _write(tmp_path, "bad.toml", "[spool]\ndrum_diameter_mm = 19.8\n[cable]\ndiameter_mm = 1.0\n"
                                          "pretension_n = 15.0\n")
     out_json = tmp_path / "bad.json"
     assert main(["check", params, "--json", str(out_json)]) == 1

@@ -93,16 +93,24 @@ def _write(tmp_path, text):
     return path
 
 
-BAD = "[spool]\ndrum_diameter_mm = 12.0\n[cable]\ndiameter_mm = 1.0\npretension_n = 15.0\n"
+# a drum just under the paper's 20 d: the spool can still be made (a 12 mm one, as this used to be, has no room for
+# its anchors and index holes: the loader refuses it, naming the key and the least drum, below)
+BAD = "[spool]\ndrum_diameter_mm = 19.8\n[cable]\ndiameter_mm = 1.0\npretension_n = 15.0\n"
 LIGHT = "[swimming]\ntail_beat_frequency_hz = 2.0\ntail_amplitude_m = 0.03\nspeed_m_s = 0.4\n"
 
 
 def test_bad_design_fails_drum_pretension_and_slip(tmp_path):
     fs = _by_id(run_rules(RuleContext(load_design(_write(tmp_path, BAD)))))
-    assert fs["paper.drum_to_cable"].severity is Severity.FAIL and fs["paper.drum_to_cable"].value == 12.0
+    assert fs["paper.drum_to_cable"].severity is Severity.FAIL and fs["paper.drum_to_cable"].value == 19.8
     assert fs["paper.pretension_fraction"].severity is Severity.FAIL
     assert fs["paper.pretension_fraction"].value == pytest.approx(0.05)
     assert fs["physics.capstan_no_slip"].severity is Severity.FAIL
+
+
+def test_a_drum_with_no_room_for_its_spool_is_refused_by_the_loader(tmp_path):
+    with pytest.raises(ParamError, match=r"spool.drum_diameter_mm = 12.0: no room for the cable anchor holes .* at "
+                                         r"least 12.20 mm"):
+        load_design(_write(tmp_path, BAD.replace("19.8", "12.0")))
 
 
 def test_slip_rule_separates_the_bad_spool_at_a_light_load(tmp_path):
