@@ -41,9 +41,9 @@ from swiftfin.cad.kernel import Edge, Face, Plane, Solid, Transition, Wire
 
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.layout.fastening import Fastener
-from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, MOTOR_PITCH_GAP_MM, cable_exit_hole_mm, cable_routes,
-                                      half_height_mm, motor_placements, naca_half_width_mm, spool_dims, tube_bore_diameter_mm,
-                                      tube_seat_shoulder_mm)
+from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, MIN_WEB_LINES, MOTOR_PITCH_GAP_MM, cable_exit_hole_mm,
+                                      cable_routes, half_height_mm, motor_placements, naca_half_width_mm, spool_dims,
+                                      tube_bore_diameter_mm, tube_seat_shoulder_mm)
 from swiftfin.layout.mount_plan import BOSS_MARGIN_MM, motor_screw_fit
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.errors import BuildError, UserError
@@ -197,10 +197,11 @@ POST_STEP_MM = 0.05
 
 
 def _hole_wall_mm(p: Params) -> float:
-    """The wall kept round a guide screw's hole: the fastener check's (``rules.wall_min_line_widths``) and
-    :data:`~swiftfin.layout.mount_plan.BOSS_MARGIN_MM` (the check measures on the meshes from just inside the hole's
-    surface: a wall of exactly the rule read 0.84 mm of 0.87)."""
-    return p.rules.wall_min_line_widths * p.print.line_width_mm + BOSS_MARGIN_MM
+    """The wall kept round a guide screw's hole: two perimeters (:data:`~swiftfin.layout.geometry.MIN_WEB_LINES`
+    line widths, what the fastener check asks with the default ``rules.wall_min_line_widths``: the rule is the
+    check's, never an input of the parts) and :data:`~swiftfin.layout.mount_plan.BOSS_MARGIN_MM` (the check measures
+    on the meshes from just inside the hole's surface: a wall of exactly two lines read 0.84 mm of 0.87)."""
+    return MIN_WEB_LINES * p.print.line_width_mm + BOSS_MARGIN_MM
 
 
 def _clear_of_spool_mm(reach_mm: float, dx_mm: float) -> float:
