@@ -19,7 +19,11 @@ the inner ellipse (half-width ``a``, half-height ``b``) beyond ``t = z_level / b
    on the default design the trim asks for s = 17 mm, 1.5 mm behind the cap, and no fill of 34 g is centred there);
 2. then its height as near the wanted one (:func:`~swiftfin.exports.water.ballast_height`);
 3. its level and its dams clear of every part inside (``keep_out``: the electronics under the nose's fill) by
-   ``print.clearance_assembly_mm`` and of the seam's land, each dam :data:`DAM_RISE_MM` proud of the level.
+   ``print.clearance_assembly_mm`` and of the seam's land, each dam :data:`DAM_RISE_MM` proud of the level: the fill
+   keeps clear of every part over it that reaches past its level, a dam of every part that reaches past its edge,
+   and each stretch of the hollow between such parts is tried (:func:`free_stretches`); every piece of the link is
+   searched. A fill lies against the nose cap or a bulkhead with no dam; an open (spliced) end gets a dam clear of
+   the splice (:func:`pour_range_mm`).
 
 What the fill misses of the trim's place is not hidden: the build's mass model uses the fill, and the float rules
 (``float.level``: the static pitch) say what it costs.
