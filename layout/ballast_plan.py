@@ -38,7 +38,7 @@ import numpy as np
 from swiftfin.catalogues.ballast import ballast_fill
 from swiftfin.core.schema import Params
 from swiftfin.layout.cradle_plan import bond_gap_mm, inner_semi_axes_mm, wall_mm
-from swiftfin.layout.hull_plan import (SEAM_LAND_HEIGHT_MM, SPLICE_LENGTH_MM, cavity_range_mm, hull_pieces,
+from swiftfin.layout.hull_plan import (SEAM_LAND_HEIGHT_MM, cavity_range_mm, hollow_clear_of_ends_mm, hull_pieces,
                                       part_label)
 
 FILL_LABEL = "trim_ballast"
@@ -120,13 +120,7 @@ def pour_range_mm(p: Params, pc) -> tuple[float, float, bool]:
     whether the front end is closed (the nose cap or a bulkhead: the fill may lie against it without a dam). An open
     (spliced) end holds neither fill nor dam: the fill would run out of the piece, and the splice's tabs and screws
     take :data:`~swiftfin.layout.hull_plan.SPLICE_LENGTH_MM` there (as the flotation's blocks keep clear of them)."""
-    gap = bond_gap_mm(p)
-    c0, c1 = cavity_range_mm(p, pc)
-    lo, hi = max(c0, pc.s_start_mm) + gap, min(c1, pc.s_end_mm) - gap
-    if pc.front_cut:
-        lo = max(lo, pc.s_start_mm + SPLICE_LENGTH_MM + gap)
-    if pc.rear_cut:
-        hi = min(hi, pc.s_end_mm - SPLICE_LENGTH_MM - gap)
+    lo, hi = hollow_clear_of_ends_mm(p, pc, bond_gap_mm(p))
     return lo, hi, bool(pc.nose or pc.front_joint is not None)
 
 

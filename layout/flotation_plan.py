@@ -34,8 +34,7 @@ from swiftfin.core.errors import UserError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L
 from swiftfin.layout.hull_plan import (
-    SPLICE_LENGTH_MM, HullPiece, cavity_range_mm, flooded, hull_pieces, hull_section_semi_axes_mm, part_label,
-    seam_features)
+    HullPiece, flooded, hollow_clear_of_ends_mm, hull_pieces, hull_section_semi_axes_mm, part_label, seam_features)
 from swiftfin.layout.joints import joint_hardware
 
 SECTION_POINTS = 24            # points on each side of a section polygon (48 in all)
@@ -95,12 +94,7 @@ class FoamBlock:
 def _block(p: Params, pc: HullPiece, index: int) -> FoamBlock:
     c = p.print.clearance_assembly_mm
     inset = 0.5 * p.print.clearance_sliding_mm
-    c0, c1 = cavity_range_mm(p, pc)
-    s0, s1 = max(c0, pc.s_start_mm) + c, min(c1, pc.s_end_mm) - c
-    if pc.front_cut:
-        s0 = max(s0, pc.s_start_mm + SPLICE_LENGTH_MM + c)
-    if pc.rear_cut:
-        s1 = min(s1, pc.s_end_mm - SPLICE_LENGTH_MM - c)
+    s0, s1 = hollow_clear_of_ends_mm(p, pc, c)
     # (station, radius): vertical cylinders about the joint axes at its ends, clear of the swinging link by the
     # assembly clearance plus twice the tessellation's deflection (the notch's facets stand inside its circle; the
     # assembly check measures the meshes: 0.5 mm of exact clearance read 0.487 mm on a 3-joint design)

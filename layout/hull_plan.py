@@ -205,6 +205,19 @@ def cavity_range_mm(p: Params, pc: HullPiece) -> tuple[float, float]:
     return s0, s1
 
 
+def hollow_clear_of_ends_mm(p: Params, pc: HullPiece, margin_mm: float) -> tuple[float, float]:
+    """Stations [s0, s1] where a part may stand in the piece's hollow (:func:`cavity_range_mm`, within the piece):
+    ``margin_mm`` from its ends, and at a station cut clear of the splice's tabs and screws
+    (:data:`SPLICE_LENGTH_MM` behind the cut). The flotation's foam blocks and the trim ballast's fill and dams."""
+    c0, c1 = cavity_range_mm(p, pc)
+    s0, s1 = max(c0, pc.s_start_mm) + margin_mm, min(c1, pc.s_end_mm) - margin_mm
+    if pc.front_cut:
+        s0 = max(s0, pc.s_start_mm + SPLICE_LENGTH_MM + margin_mm)
+    if pc.rear_cut:
+        s1 = min(s1, pc.s_end_mm - SPLICE_LENGTH_MM - margin_mm)
+    return s0, s1
+
+
 def _cavity_range(p: Params, pc: HullPiece) -> tuple[float, float]:
     t = p.hull.bulkhead_thickness_mm
     if pc.nose:
