@@ -193,7 +193,14 @@ def _unit(v):
 
 
 POST_STEP_MM = 0.05
-"""Step aft of an exit guide's posts, from just inside the motor frame's edge, while they meet a screw head."""
+"""Step aft of a guide's posts, from just inside the motor frame's edge, while they do not fit (a large drum)."""
+
+
+def _head_gap_mm(p: Params, dx_mm: float, y_mm: float, post_r_mm: float) -> float:
+    """Gap in plan between a post ``dx_mm`` along x and ``y_mm`` across from a motor's axis and the nearest of that
+    motor's mounting screw heads (at +/- half the hole spacing; a head's radius taken as the screw's diameter)."""
+    hs = p.motor.hole_spacing_mm / 2
+    return math.hypot(abs(dx_mm) - hs, abs(y_mm) - hs) - post_r_mm - p.motor.mount_screw_diameter_mm
 
 
 def _hole_wall_mm(p: Params) -> float:
@@ -390,7 +397,6 @@ def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
         y_half = max(ys) + r_ch + wall
         zr = (min(zs) - r_ch - wall, max(zs) + r_ch + wall)
         hole_r = screw_hole_diameter_mm(p) / 2
-        hs = p.motor.hole_spacing_mm / 2
         # the posts stand just inside the motor frame's aft edge, the fastener check's wall between each screw hole
         # and the spool's envelope (one line, as it was, left 0.65 mm of 0.87 on a seeded design's large drum,
         # 2026-11-29), clear of the motor's screw heads; where a large drum leaves no room between the two, they
@@ -399,7 +405,7 @@ def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
             x_post = float(mp.x_mm - p.motor.frame_size_mm / 2 + post_r - back)
             dx = x_post - mp.x_mm
             y_post = max(p.motor.hole_spacing_mm / 4, _clear_of_spool_mm(env_r + hole_r + _hole_wall_mm(p), dx))
-            head_gap = math.hypot(abs(dx) - hs, y_post - hs) - post_r - p.motor.mount_screw_diameter_mm
+            head_gap = _head_gap_mm(p, dx, y_post, post_r)
             if head_gap >= 0:
                 break
         if head_gap < 0:
@@ -433,14 +439,13 @@ def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
     # and the fastener check's wall from the rear spool's envelope (the block is cut clear of it over the plate),
     # clear of the motor's screw heads: just inside the frame's aft edge, or stepped aft (a large drum) until they fit
     y_cables = d.drum_radius_mm - r_ch - hole_r - 2 * pr.line_width_mm
-    hs = p.motor.hole_spacing_mm / 2
     for back in np.arange(0.0, post_r + 1e-9, POST_STEP_MM):
         x_post = float(rear.x_mm - F / 2 + post_r - back)
         dx = x_post - rear.x_mm
         y_env = _clear_of_spool_mm(env_r + hole_r + _hole_wall_mm(p), dx)
         y_post = min(max(p.motor.hole_spacing_mm / 4, y_env), y_cables)
         fits = not (y_post < y_env - 1e-9 or (y_post < post_r and y_env > 0.0))
-        if fits and math.hypot(abs(dx) - hs, y_post - hs) >= post_r + p.motor.mount_screw_diameter_mm:
+        if fits and _head_gap_mm(p, dx, y_post, post_r) >= 0:
             break
     else:
         raise UserError(f"{label}: no room for its screws between motor 1's two cables (|y| <= {y_cables:.1f} mm), "
