@@ -54,7 +54,7 @@ import math
 import numpy as np
 
 from swiftfin.layout import geometry as L
-from swiftfin.cad.kernel import bd, precise_volume_mm3
+from swiftfin.cad.kernel import bd, precise_volume_mm3, valid_fuse
 from swiftfin.layout.fin_plan import tang_dims_mm
 from swiftfin.cad.clevis import clevis_add, clevis_cut
 from swiftfin.cad.fastening import SLOT_REACH_MM
@@ -397,8 +397,7 @@ def piece_solid(p: Params, pc: HullPiece) -> bd.Solid:
         front = next(q for q in hull_pieces(p) if q.rear_cut and abs(q.s_end_mm - pc.s_start_mm) < 1e-9)
         adds += _splice_pads(p, pc, front)
     adds += _seam_bosses(p, pc, outer) + _fixing_pads(p, pc) + _seam_land(p, pc, c0, c1)
-    if adds:
-        body = body.fuse(*adds).clean()
+    body = valid_fuse(body, adds)
     cuts += _cable_holes(p, pc) + _vent_holes(p, pc)
     if pc.tail:
         cuts += _tail_features(p, pc)
