@@ -91,7 +91,7 @@ def tessellate(shape, tolerance_mm: float, angular_tolerance_deg: float) -> Mesh
     # no point of the surface lies outside its exact bounding box: a mesh node there is the mesher's error (seen
     # at a revolved nose's apex cut through its axis, 0.5 mm past the cut plane, which lifted the half off the bed)
     pts = np.clip(pts, lo, hi)
-    return weld(pts, np.concatenate(tris))
+    return close_pinholes(weld(pts, np.concatenate(tris)), tolerance_mm)
 
 
 def _exact_box(topo) -> tuple[np.ndarray, np.ndarray]:
@@ -138,6 +138,47 @@ def weld(vertices: np.ndarray, faces: np.ndarray, tolerance_mm: float = WELD_TOL
     remap = np.full(n, -1, dtype=np.int64)
     remap[used] = np.arange(len(used))
     return Mesh(v[used], remap[f])
+
+
+def close_pinholes(mesh: Mesh, size_mm: float) -> Mesh:
+    """``mesh`` with every hole smaller than ``size_mm`` across (its boundary loop's bounding box diagonal) closed
+    by a fan of triangles, when that leaves it closed (:func:`is_closed`); otherwise ``mesh`` unchanged.
+
+    Why: a boolean can leave a sliver face on the B-rep (a seeded design's bay guide, 2026-11-29: a cylindrical face
+    of 1.7 x 0.7 um, area ~0, where a channel meets a plane), which OpenCascade's mesher leaves untriangulated; the
+    mesh then has a hole a few micrometres across (7 open edges) and the build refused the part. A hole smaller
+    than the chordal tolerance is the mesher's, not the shape's: its fan lies within the tolerance of the surface.
+    A closed mesh comes back as it was."""
+    f = mesh.faces
+    e = np.concatenate([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    have = {(int(a), int(b)) for a, b in e}
+    open_edges = [(a, b) for a, b in have if (b, a) not in have]
+    if not open_edges or len(open_edges) > 64:
+        return mesh
+    nxt: dict[int, int] = {}
+    for a, b in open_edges:
+        if b in nxt:            # two open edges leave one vertex: not a simple pinhole
+            return mesh
+        nxt[b] = a              # the fill runs each open edge backwards
+    fill, seen = [], set()
+    for start in list(nxt):
+        if start in seen:
+            continue
+        loop, v = [], start
+        while v not in seen:
+            seen.add(v)
+            loop.append(v)
+            v = nxt.get(v, -1)
+            if v < 0:
+                return mesh
+        if v != start or len(loop) < 3:
+            return mesh
+        pts = mesh.vertices[loop]
+        if float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0))) >= size_mm:
+            return mesh
+        fill += [(loop[0], loop[i], loop[i + 1]) for i in range(1, len(loop) - 1)]
+    closed = Mesh(mesh.vertices, np.vstack([f, np.asarray(fill, dtype=np.int64)]))
+    return closed if is_closed(closed) else mesh
 
 
 def is_closed(mesh: Mesh) -> bool:
