@@ -118,6 +118,12 @@ def _block(p: Params, pc: HullPiece, index: int) -> FoamBlock:
     z_floor = -(b_min - p.hull.wall_thickness_mm) + p.hull.vent_hole_diameter_mm
     blk = FoamBlock(f"flotation_{index}", pc.link, pc.name, part_label(p, pc, "lower"), s0, s1, z_floor, z_top,
                     y_max, inset, tuple(axes))
+    if _centre_cut_all_along(s0, s1, axes):
+        swing = ", ".join(f"radius {r:.1f} mm about s = {sa:.1f} mm" for sa, r in axes)
+        raise UserError(f"environment.flotation_foam_segments = {p.environment.flotation_foam_segments}: the foam "
+                        f"block in {pc.name} (s = {s0:.1f}..{s1:.1f} mm) would come apart in two: the swing of the "
+                        f"joint hardware at its ends ({swing}) takes its middle away all along: ask for fewer blocks, "
+                        f"or spread the joints apart (joints.stations_fraction)")
     thin = {"length": s1 - s0, "height": z_top - z_floor, "width": 2 * y_max}
     small = {k: v for k, v in thin.items() if v < MIN_BLOCK_MM}
     if small:
@@ -126,6 +132,19 @@ def _block(p: Params, pc: HullPiece, index: int) -> FoamBlock:
                         f"for a foam block in {pc.name} ({what}; at least {MIN_BLOCK_MM:g} mm): ask for fewer "
                         f"blocks, or make room (a larger body.naca_thickness_fraction, a lower hull.flooded_from_joint)")
     return blk
+
+
+def _centre_cut_all_along(s0: float, s1: float, notches) -> bool:
+    """Whether the notches (station, radius) cover the block's centre line (y = 0) from s0 to s1: the block would
+    then be two pieces, one each side (a five-joint seeded design's, 2026-11-29: its 7.8 mm block between two
+    17.2 mm notches 31 mm apart). The default's first block keeps 1.9 mm of centre line between its notches."""
+    covered = sorted((sa - r, sa + r) for sa, r in notches)
+    reach = s0
+    for lo, hi in covered:
+        if lo > reach:
+            break
+        reach = max(reach, hi)
+    return reach >= s1
 
 
 def foam_blocks(p: Params) -> tuple[FoamBlock, ...]:

@@ -122,3 +122,26 @@ def test_a_plan_that_cannot_be_made_is_reported_under_its_key(monkeypatch):
     assert problems[0].value == P.hull.screw_diameter_mm
     assert "the wall fixings cannot be made for this design: no M2 screw of 22.6 mm" in problems[0].expected
     assert "the splices cannot be made for this design: grip = 22.6 mm" in problems[1].expected
+
+
+def test_a_block_whose_middle_the_joints_swing_takes_away_all_along_is_refused_at_load():
+    """tests/data/seeded_foam_apart.toml (a seeded five-joint design): hull_body_1's block, 7.8 mm long between
+    notches of 17.2 mm radius about axes 31 mm apart, would be two pieces; the build used to stop at its solid.
+    The default's first block keeps 1.9 mm of centre line between its notches, and is one solid."""
+    import tomllib
+    from pathlib import Path
+
+    from swiftfin.layout.flotation_plan import _centre_cut_all_along
+    raw = tomllib.loads((Path(__file__).parent / "data" / "seeded_foam_apart.toml").read_text())
+    _, problems = design_problems(raw)
+    assert [pr.key for pr in problems] == ["environment.flotation_foam_segments"], [str(x) for x in problems]
+    assert "hull_body_1" in problems[0].expected and "come apart" in problems[0].expected
+    raw["environment"]["flotation_foam_segments"] = 0
+    assert design_problems(raw)[1] == []
+    # the cover: touching notches leave nothing; a hair between them keeps the block whole
+    assert _centre_cut_all_along(0.0, 10.0, [(-5.0, 10.0), (15.0, 10.0)])
+    assert not _centre_cut_all_along(0.0, 10.0, [(-5.0, 10.0), (15.1, 10.0)])
+    assert not _centre_cut_all_along(0.0, 10.0, [])
+    first = foam_blocks(P)[0]
+    gap = min(s + r for s, r in first.notches), max(s - r for s, r in first.notches)
+    assert gap[1] - gap[0] == pytest.approx(1.91, abs=0.01)
