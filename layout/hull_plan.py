@@ -190,8 +190,21 @@ def hull_pieces(p: Params) -> tuple[HullPiece, ...]:
             sx, sy, sz = size
             raise UserError(f"{seg.name}: printed size {sx:.0f} x {sy:.0f} x {sz:.0f} mm does not fit the print bed "
                             f"{bed} even when cut into 12 pieces along its length (print.bed_x_mm, print.bed_y_mm, "
-                            f"print.bed_z_mm; or a smaller body.length_mm)")
+                            f"print.bed_z_mm; or a smaller body.length_mm{_halves_hint(p)})")
     return tuple(out)
+
+
+def _halves_hint(p: Params) -> str:
+    """For a hull printed whole that fits no bed: the other way out when its halves would fit (a seeded design,
+    2026-11-29: 118 x 162 mm sections on a 108 mm-wide bed, whose halves fit)."""
+    if p.hull.split_halves:
+        return ""
+    from swiftfin.core.params import replace_key
+    try:
+        hull_pieces(replace_key(p, "hull.split_halves", True))
+    except UserError:
+        return ""
+    return "; or hull.split_halves = true: its halves fit"
 
 
 def cavity_range_mm(p: Params, pc: HullPiece) -> tuple[float, float]:

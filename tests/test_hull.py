@@ -18,6 +18,7 @@ from swiftfin.cad.link import joint_hardware
 from swiftfin.core.errors import UserError
 from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.GeomAbs import GeomAbs_Cylinder
+from swiftfin.core.params import replace_key
 from swiftfin.core.schema import Params
 from tests.golden_check import check_golden, precise_volume_mm3
 
@@ -585,6 +586,18 @@ def test_segment_that_cannot_fit_is_refused_with_a_clear_message():
         hull_pieces(tiny)
     msg = str(err.value)
     assert "hull_head" in msg and "60 x 60 x 220 mm" in msg and "does not fit" in msg
+    assert "split_halves" not in msg                    # already in halves: no other way out to offer
+
+
+def test_a_whole_hull_that_fits_no_bed_is_told_its_halves_would():
+    """A hull printed whole (hull.split_halves = false) on a 100 x 100 x 100 mm bed fits no way; its halves do, and
+    the message says so (a seeded design was refused naming only the bed's keys and the body's length)."""
+    whole = replace_key(replace_key(replace_key(replace_key(P, "hull.split_halves", False), "print.bed_x_mm", 100.0),
+                                    "print.bed_y_mm", 100.0), "print.bed_z_mm", 100.0)
+    with pytest.raises(UserError) as err:
+        hull_pieces(whole)
+    assert "or hull.split_halves = true: its halves fit" in str(err.value)
+    assert hull_pieces(replace_key(whole, "hull.split_halves", True))
 
 
 # ----------------------------------------------------------------------------------------------- golden
