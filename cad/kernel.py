@@ -45,19 +45,10 @@ def precise_volume_mm3(shape) -> float:
     return float(g.Mass())
 
 
-def valid_fuse(body, tools: list, clean: bool = True):
-    """``body`` fused with every shape of ``tools`` at once (one general fuse: fast) and, where OpenCascade returns
-    that invalid, one tool at a time (each fuse then meets one new shape). Seen on a seeded design's head piece
-    (2026-11-29): its twenty seam bosses fused at once came back invalid, though fused one by one every step was
-    valid, and the split of the invalid piece left no gasket slab. The default design's pieces fuse valid at
-    once, so their solids are as before. Returns the last result, valid or not (the part checks say which)."""
-    if not tools:
-        return body
-    out = body.fuse(*tools)
-    out = out.clean() if clean else out
-    if out.is_valid:
-        return out
-    out = body
+
+def fuse_one_by_one(body, tools: list):
+    """``body`` fused with each shape of ``tools`` in turn (each fuse meets one new shape), cleaned: slower than one
+    general fuse, and valid where that one is not on some pieces (see :func:`swiftfin.cad.hull._piece_split`)."""
     for tool in tools:
-        out = out.fuse(tool)
-    return out.clean() if clean else out
+        body = body.fuse(tool)
+    return body.clean() if tools else body

@@ -711,15 +711,16 @@ def test_a_head_whose_exact_split_and_gasket_slab_come_back_empty_is_split_whole
 def test_a_head_whose_seam_bosses_fuse_invalid_at_once_is_fused_one_by_one():
     """A seeded design (tests/data/seeded_head_bosses.toml): its head's front piece with its twenty seam bosses
     fused in one general fuse is an invalid solid, and its split left no gasket slab (the build stopped there,
-    2026-11-29). Fused one by one where the one fuse fails (:func:`swiftfin.cad.kernel.valid_fuse`), the piece is
-    valid, and its halves and slab add up to it."""
+    2026-11-29). Fused one by one where the one fuse leaves a part invalid or the slab missing
+    (:func:`swiftfin.cad.hull._piece_split`), the piece is valid, and its halves and slab add up to it."""
     from pathlib import Path
     from swiftfin.cad.hull import _piece_split
     from swiftfin.cad.kernel import precise_volume_mm3
     from swiftfin.layout.design import load_design
     p = load_design(Path(__file__).parent / "data" / "seeded_head_bosses.toml")
     pc = next(q for q in hull_pieces(p) if q.name == "hull_head_front")
-    whole = piece_solid(p, pc)
+    assert not piece_solid(p, pc).is_valid                 # the one general fuse
+    whole = piece_solid(p, pc, one_by_one=True)
     assert whole.is_valid and len(whole.solids()) == 1
     halves, slab = _piece_split(p, pc)
     assert slab is not None and slab.is_valid and len(slab.solids()) >= 1
