@@ -413,11 +413,12 @@ def _piece_split(p: Params, pc: HullPiece):
     from its front to its rear end (the dry wall's back face); that slab of the piece is where the gasket lies.
 
     The piece's added features (bosses, pads, land, tabs) are fused in one general fuse; where that leaves a part
-    invalid or the slab missing, the piece is made again with them fused one by one (kept if its parts are valid). Neither way is always right: a
-    seeded design's head (tests/data/seeded_head_bosses.toml) fused its twenty seam bosses at once into an invalid
-    solid that left no slab, while one by one it splits clean; a fuller 630 mm head (tests/test_hull.py) fuses at
-    once into a solid OpenCascade calls invalid whose halves are valid, and one by one into a valid solid whose lower
-    half is not (2026-11-29). The default's pieces split clean the first way, as before."""
+    invalid or the slab missing, the piece is made again with them fused one by one (kept if its parts are valid).
+    Neither way is always right: a seeded design's head (tests/data/seeded_head_bosses.toml) fused its twenty seam
+    bosses at once into an invalid solid that left no slab, while one by one it splits clean; a fuller 630 mm head
+    (tests/test_hull.py) fuses at once into a solid OpenCascade calls invalid whose halves are valid, and one by one
+    into a valid solid whose lower half is not (2026-11-29). The default's pieces split clean the first way, as
+    before."""
     first = None
     try:
         first = _piece_split_of(p, pc, piece_solid(p, pc))

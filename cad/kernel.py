@@ -45,7 +45,6 @@ def precise_volume_mm3(shape) -> float:
     return float(g.Mass())
 
 
-
 def fuse_one_by_one(body, tools: list):
     """``body`` fused with each shape of ``tools`` in turn (each fuse meets one new shape), cleaned: slower than one
     general fuse, and valid where that one is not on some pieces (see :func:`swiftfin.cad.hull._piece_split`)."""
