@@ -11,7 +11,7 @@ joints ahead, on the axis -> tangent to its own joint's tendon sector), as a cir
 along the centre line:
 
 * the **exit** and **bay** bends are rounded at the guide channel's radius ``guides.min_bend_radius_mm`` (the same
-  arc as :func:`swiftfin.cad.guide.bend_channel`, so the cable runs on the channel's centre line);
+  arc as :func:`swiftfin.layout.guide_plan.bend_channel`, so the cable runs on the channel's centre line);
 * the cable is cut into **pieces, one per kinematic link**: ``cable_<J>_<left|right>_<k>`` is the straight run
   rigid with link k (k = 0: spool to the hinge line of joint 1, or to the sector for J = 1; 1 <= k < J: hinge line
   of joint k to that of joint k+1, or to the sector). Pieces meet on the joint axes, where a rotation of the joint
@@ -28,7 +28,7 @@ The wraps on the spools' drums are not modelled (they lie in the spool's own gro
 **PTFE tubes** (:func:`tube_runs`). Where the design puts a tube:
 
 * in every **guide channel**, over the stretch of the channel's centre line that lies inside its printed block,
-  from the mouth where the channel opens to the tube's seat (:meth:`swiftfin.cad.guide.GuideBlock.tube_seat`):
+  from the mouth where the channel opens to the tube's seat (:meth:`swiftfin.layout.guide_plan.GuideBlock.tube_seat`):
   ``tube_<guide>_<J>_<side>``, link 0;
 * in every **bulkhead hole** of the hull (:func:`swiftfin.cad.hull.bulkhead_passages`: a bore of PTFE tube OD + 2
   sliding clearance along the route), from the bulkhead's front face to its seat: ``tube_<hull piece>_<J>_<side>``,
@@ -68,7 +68,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from swiftfin.cad.assembly import Placed, chain_transform, link_transform
-from swiftfin.cad.guide import arc_points, bend_channel, channel_centre_lines, guide_blocks, inside_block
+from swiftfin.layout.guide_plan import arc_points, bend_channel, channel_centre_lines, guide_blocks, inside_block
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L

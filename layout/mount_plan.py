@@ -64,7 +64,9 @@ LOAD_FLOOR_STEP_MM = 0.05
 
 
 def assembly_gap_mm(p: Params) -> float:
-    """The gap between parts that must not touch (as :func:`swiftfin.cad.guide.assembly_gap_mm`)."""
+    """The gap to leave between parts that must not touch: the assembly clearance plus what tessellation
+    can take off it (each of the two meshes may lie up to ``export.mesh_tolerance_mm`` off its surface),
+    since the assembly check measures on the meshes."""
     return p.print.clearance_assembly_mm + 2 * p.export.mesh_tolerance_mm
 
 

@@ -106,7 +106,7 @@ def test_groove_piece_is_the_seated_radius_round_the_joint_axis(pieces):
 def test_tubes_lie_in_their_guides_and_bulkheads(tubes):
     """A tube per cable per guide it passes (a lane's drop and turn in the bay guide are one tube through two joined
     channels) and per bulkhead hole that lies wholly in the bulkhead's material."""
-    from swiftfin.cad.guide import channel_centre_lines, guide_blocks
+    from swiftfin.layout.guide_plan import channel_centre_lines, guide_blocks
     guide = [t for t in tubes if t.kind == "guide"]
     blocks = guide_blocks(P)
     assert len(guide) == sum(len(channel_centre_lines(b)) for b in blocks)
@@ -350,7 +350,7 @@ def test_a_guide_that_turns_its_cables_further_gets_a_longer_shoulder():
     many whole lines as that needs, every built tube's retention (its own turn, measured on its centre line) passes,
     and every tube of its guides still finds its seat."""
     from pathlib import Path
-    from swiftfin.cad.guide import guide_blocks, is_chain_end
+    from swiftfin.layout.guide_plan import guide_blocks, is_chain_end
     from swiftfin.layout.design import load_design
     assert L.tube_seat_shoulder_mm(P) == pytest.approx(2 * P.print.line_width_mm)
     p = load_design(Path(__file__).parent / "data" / "seeded_large_drum.toml")

@@ -10,7 +10,8 @@ from OCP.BRepAdaptor import BRepAdaptor_Surface
 from OCP.BRepTools import BRepTools
 
 from swiftfin.layout import geometry as L
-from swiftfin.cad.guide import channel_path, guide_blocks, guide_solid, make_guides
+from swiftfin.cad.guide import channel_path, guide_solid, make_guides
+from swiftfin.layout.guide_plan import guide_blocks
 from swiftfin.core.errors import UserError
 from swiftfin.core.params import replace_key
 from swiftfin.core.schema import Params
@@ -280,7 +281,8 @@ def test_seeded_sweep_builds_or_refuses_clearly():
     import random
 
     from swiftfin.layout.geometry import layout_problems
-    from swiftfin.cad.mount import mount_numbers, mount_solid
+    from swiftfin.cad.mount import mount_solid
+    from swiftfin.layout.mount_plate_plan import mount_numbers
     from swiftfin.cad.spool import spool_solid
     from swiftfin.layout.spool_plan import spool_numbers
     from swiftfin.core.params import cross_field_problems
@@ -317,7 +319,8 @@ def test_a_large_drums_posts_and_guide_screws_stay_clear_of_its_spools():
     screw holes kept one line (0.65 mm) from the spools' envelope where the fastener check asks two (0.87 mm).
     Measured on the solids: each mount stands the assembly clearance from its spool's lower half; every guide's screw
     hole keeps the fastener check's wall from each spool's envelope (the blocks are cut to it)."""
-    from swiftfin.cad.guide import assembly_gap_mm, bare_guide_blocks
+    from swiftfin.layout.guide_plan import bare_guide_blocks
+    from swiftfin.layout.mount_plan import assembly_gap_mm
     from swiftfin.cad.mount import make_motor_mounts
     from swiftfin.cad.spool import spool_solid
     from swiftfin.layout.design import load_design

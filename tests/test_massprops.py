@@ -288,7 +288,8 @@ def test_ptfe_tube_mass_is_tube_section_times_the_tubes_length(default_params):
     diameters (a slanted face)."""
     import build123d as bd
     from swiftfin.cad.cables import tube_runs
-    from swiftfin.cad.guide import channel_path, guide_blocks
+    from swiftfin.cad.guide import channel_path
+    from swiftfin.layout.guide_plan import guide_blocks
     from swiftfin.layout.geometry import tube_seat_shoulder_mm
     p = default_params
     g = p.guides

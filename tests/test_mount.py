@@ -13,8 +13,9 @@ from OCP.BRepAdaptor import BRepAdaptor_Surface
 from swiftfin.layout import geometry as L
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.cad.fastening import all_fasteners
-from swiftfin.cad.guide import guide_blocks
-from swiftfin.cad.mount import mount_numbers, mount_solid
+from swiftfin.layout.guide_plan import guide_blocks
+from swiftfin.cad.mount import mount_solid
+from swiftfin.layout.mount_plate_plan import mount_numbers
 from swiftfin.cad.registry import family_function
 from swiftfin.layout.mount_plan import mount_wall_loads, motor_screw_fit, wall_fixings
 from swiftfin.core.params import replace_key
@@ -364,3 +365,31 @@ def test_a_mount_pulled_harder_than_its_wall_screws_hold_is_refused_naming_the_s
     assert "1 problem(s)" in text
     m3 = replace_key(strong, "hull.screw_diameter_mm", 3.0)
     assert all(f.length_mm <= 40 for f in wall_fixings(m3))
+
+
+@pytest.mark.parametrize("name, key, words", [
+    ("seeded_mount_narrow", "motor.frame_size_mm",
+     ("motor_mount_1: the hull is only 36.2 mm wide (half) at the mount plate", "wall screws' pads (15.8 mm)")),
+    ("seeded_guide_posts", "spool.drum_diameter_mm",
+     ("guide_exit_2: its posts", "would sit on the motor's screw heads", "spool.drum_diameter_mm")),
+])
+def test_the_loader_refuses_a_mount_or_guide_the_build_could_not_make(name, key, words, tmp_path):
+    """Two seeded designs the loader accepted and the build refused at its start (of 200 drawn with seeds 16 and
+    2027, 27 did: 7 a mount plate, 20 a guide's posts): the guides' and the mounts' numbers are made without the CAD
+    kernel now (layout/guide_plan.py, layout/mount_plate_plan.py), so ``swiftfin check`` refuses them, exit 2, under
+    a key, with the build's own words; and ``swiftfin build`` writes nothing."""
+    import subprocess
+    import sys
+    import tomllib
+    from pathlib import Path
+
+    from swiftfin.layout.design import design_problems
+    path = Path(__file__).parent / "data" / f"{name}.toml"
+    _, problems = design_problems(tomllib.loads(path.read_text(encoding="utf-8")))
+    assert [pr.key for pr in problems] == [key], [str(pr) for pr in problems]
+    assert all(w in problems[0].expected for w in words), problems[0].expected
+    for cmd in (["check", str(path)], ["build", str(path), "--out", str(tmp_path / "out")]):
+        run = subprocess.run([sys.executable, "-m", "swiftfin", *cmd], capture_output=True, text=True, timeout=300)
+        assert run.returncode == 2 and "Traceback" not in run.stderr, run.stderr
+        assert name in run.stderr and key in run.stderr
+    assert not (tmp_path / "out").exists()
