@@ -19,6 +19,7 @@ from swiftfin.core.schema import Params
 from swiftfin.layout.guide_plan import (Channel, GuideBlock, channel_bores_mm, guide_blocks, is_chain_end,
                                         unit_vector)
 
+
 def channel_path(ch: Channel) -> Wire:
     """The channel's centre line as a wire: line, arc (if any), line."""
     edges = [Edge.make_line(ch.p_in, ch.t1)]

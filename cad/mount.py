@@ -13,6 +13,7 @@ from swiftfin.core.schema import Params
 from swiftfin.layout.mount_plan import WallFixing
 from swiftfin.layout.mount_plate_plan import MountNumbers, mount_numbers
 
+
 def boss_solid(f: WallFixing, z_bed_mm: float) -> Solid:
     """A wall screw's boss: a cylinder along the screw's axis from the face, over a block down past the print face
     (cut flush with it by :func:`mount_solid`)."""
