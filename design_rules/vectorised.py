@@ -62,8 +62,8 @@ from swiftfin.design_rules.findings import Severity
 from swiftfin.design_rules.rules import (MIN_GUIDE_BEND_RAD, MOTOR_CASE_AREA_FACES, RULES, MassProperties,
                                          RuleContext, dry_wall_area_m2, fits_bed, run_rules)
 from swiftfin.layout import loads as _loads
-from swiftfin.layout.geometry import (BAY_AFTER_DROP_RADII, BAY_TO_JOINT_MM, LANE_DROP_PITCHES, MIN_WEB_LINES,
-                                      MOTOR_PITCH_GAP_MM)
+from swiftfin.layout.geometry import (BAY_AFTER_DROP_RADII, BAY_ARC_ALLOWANCE_LINES, BAY_TO_JOINT_MM, LANE_DROP_PITCHES,
+                                      MIN_WEB_LINES, MOTOR_PITCH_GAP_MM, RISE_MAX_PITCHES, crossing_rise_mm)
 from swiftfin.layout.hull_plan import SPLICE_LENGTH_MM
 from swiftfin.layout.mount_plan import FIXING_SPREAD_FRACTION
 from swiftfin.physics import kinematics as _kin
@@ -641,6 +641,25 @@ class _Group:
             done |= take
         return out_x, out_y
 
+    def _joint1_rise(self, side, z_s, z_t0, pitch_t):
+        """``layout.geometry.joint1_rise_mm`` for one side: (N,)."""
+        c, n = self.col, self.n
+        m = c("joints.tendon_moment_arm_mm")
+        x_bay, x_drop = -self.bay_end, -self.drop_s
+        y0 = side * self.drum_r
+        tx, ty = self._tangent(x_drop, y0, -self.js[0], 0.0, m, side)
+        f = (x_drop - x_bay) / (x_drop - tx)
+        a0 = (x_bay, y0 + f * (ty - y0), z_s + f * (z_t0 - z_s))
+        need = (c("guides.ptfe_tube_od_mm") + c("print.clearance_assembly_mm")
+                + BAY_ARC_ALLOWANCE_LINES * c("print.line_width_mm"))            # bay_crossing_gap_mm
+        rise = np.zeros(self.N)
+        for j in range(1, n):
+            b0 = (x_bay, side * self.lane[j], z_s - j * LANE_DROP_PITCHES * pitch_t)
+            b1 = (-self.js[0], 0.0, (n - 1 - j) * 2 * pitch_t + side * pitch_t / 2)
+            rise = np.maximum(rise, np.nan_to_num(crossing_rise_mm(a0, (tx, ty, z_t0), b0, b1, need,
+                                                                   RISE_MAX_PITCHES * pitch_t)))
+        return np.where(rise > 0.01, rise, 0.0)
+
     def routes(self):
         """Bends over 1 deg, total bend [rad] and length [m] of every route (``layout.geometry.cable_routes``):
         (2, n, N), sides (+1, -1); and the designs with a route that has no tangent."""
@@ -663,6 +682,10 @@ class _Group:
                 if j == 0:
                     y_lane = side * self.drum_r
                     pts += [(x_m, y_lane, z_s), (x_drop, y_lane, z_s)]
+                    rise = self._joint1_rise(side, z_s, z_t, pitch_t)   # layout.geometry.joint1_rise_mm
+                    tx, ty = self._tangent(x_drop, y_lane, -self.js[0], 0.0, m, side)
+                    f = (x_drop - x_bay) / (x_drop - tx)
+                    pts.append((x_bay + zeros, y_lane + f * (ty - y_lane), z_s + f * (z_t - z_s) + rise))
                 else:
                     y_lane = side * self.lane[j]
                     x_in = x_m - self.flange_r - mb / 2
@@ -680,7 +703,10 @@ class _Group:
                 cosang = (seg[:-1] * seg[1:]).sum(axis=1) / (norm[:-1] * norm[1:])
                 ang = np.arccos(np.clip(cosang, -1.0, 1.0))
                 count[si, j] = (ang > MIN_GUIDE_BEND_RAD).sum(axis=0)
-                held = ang[0] if j == 0 else np.maximum(ang[0], ang[1] + ang[2])   # bends: bay | exit, drop, bay
+                if j == 0:    # no rise: a point on the straight line, whose arccos is rounding noise (1e-8 rad)
+                    ang[1] = np.where(rise > 0.0, ang[1], 0.0)
+                # bends: bay, rise | exit, drop, bay
+                held = ang[0] + ang[1] if j == 0 else np.maximum(ang[0], ang[1] + ang[2])
                 self.guide_turn = np.maximum(self.guide_turn, np.nan_to_num(held))
                 tot = zeros
                 for q in range(len(ang)):      # sum(b.angle_rad for b in bends), in order

@@ -344,8 +344,8 @@ class Bend:
     point_mm: tuple[float, float, float]
     angle_rad: float
     link: int
-    kind: str                # "exit" (behind a spool), "drop" (a lane's step down in the bay guide), "bay" (the
-                             # bay guide's turn toward joint 1), "hinge" (at a joint crossing)
+    kind: str                # "exit" (behind a spool), "drop" (a lane's step down, or joint 1's rise, in the bay
+                             # guide), "bay" (the bay guide's turn toward joint 1), "hinge" (at a joint crossing)
 
 
 @dataclass(frozen=True)
@@ -380,6 +380,86 @@ def _tangent_point(px: float, py: float, cx: float, cy: float, r: float, side: i
     raise ValueError("no tangent on that side")
 
 
+def crossing_rise_mm(a0, a1, b0, b1, need_mm, rise_max_mm, bisections: int = 48):
+    """How far to raise the start ``a0`` of run ``a`` (its end ``a1`` kept) so that it passes over run ``b`` (from
+    ``b0`` to ``b1``) ``need_mm`` apart, measured between the two lines (along their common normal) where they
+    cross in plan; 0 where they do not cross in plan or clear already; ``rise_max_mm`` where no rise up to it
+    clears (the guide's own check refuses the design). Found by bisection: the lines' distance grows with the rise
+    until the raised run stands up steeply. Points are (x, y, z), each coordinate a float or an array of designs
+    (:mod:`swiftfin.design_rules.vectorised` calls it with columns)."""
+    ax, ay, az = a0
+    ex, ey, ez = (a1[k] - a0[k] for k in range(3))
+    fx, fy, fz = (b1[k] - b0[k] for k in range(3))
+    wx, wy = b0[0] - ax, b0[1] - ay
+    gz = ex * fy - ey * fx
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f1 = (wx * fy - wy * fx) / gz           # a0 + f1 e = b0 + f2 f, in plan
+        f2 = (wx * ey - wy * ex) / gz
+        crosses = (np.abs(gz) > 1e-12) & (f1 >= 0) & (f1 <= 1) & (f2 >= 0) & (f2 <= 1)
+        h0 = az + f1 * ez - (b0[2] + f2 * fz)    # a over b at the crossing, unraised
+
+        def apart(rise):                         # the lines' distance, a raised by ``rise``
+            e_z = ez - rise
+            gx, gy = ey * fz - e_z * fy, e_z * fx - ex * fz
+            return (h0 + rise * (1.0 - f1)) * np.abs(gz) / np.sqrt(gx * gx + gy * gy + gz * gz)
+
+        lo = np.zeros(np.shape(h0))
+        hi = np.zeros(np.shape(h0)) + rise_max_mm
+        for _ in range(bisections):
+            mid = 0.5 * (lo + hi)
+            ok = apart(mid) >= need_mm
+            lo, hi = np.where(ok, lo, mid), np.where(ok, mid, hi)
+        rise = np.where(apart(0.0) >= need_mm, 0.0, hi)
+        return np.where(crosses & np.isfinite(rise), rise, 0.0)
+
+
+RISE_MAX_PITCHES = 2.0
+"""The most joint 1's cable rises at the bay corner (:func:`joint1_rise_mm`), in level pitches: of 200 seeded designs
+(seeds 16 and 2027), 117 need a rise, the largest 1.45 pitches (2026-11-29); a design no such rise clears is
+refused by the bay guide's check."""
+BAY_ARC_ALLOWANCE_LINES = 0.25
+"""Line widths added to what joint 1's cable and a lane clear at their crossing (:func:`bay_crossing_gap_mm`), for
+the bay guide's channels, which round the routes' corners by arcs (with none, one of 58 seeded designs kept 0.01 mm
+too little on the channels' centre lines; with a quarter, the closest of 195 keeps 0.011 mm over the need, the
+default 0.31 mm, 2026-11-29). The guide's own check (:func:`swiftfin.layout.guide_plan.channel_clearance_mm`)
+measures the channels and refuses what is left."""
+
+
+def bay_crossing_gap_mm(p: Params) -> float:
+    """What joint 1's cable and a lane's must clear where they cross in plan, between centre lines: a tube's OD and
+    the assembly clearance (the gap the assembly check asks between two tubes), and :data:`BAY_ARC_ALLOWANCE_LINES`
+    line widths for the guide's arcs, which round the routes' corners."""
+    return p.guides.ptfe_tube_od_mm + p.print.clearance_assembly_mm + BAY_ARC_ALLOWANCE_LINES * p.print.line_width_mm
+
+
+def joint1_rise_mm(p: Params, side: int) -> float:
+    """How far joint 1's ``side`` cable rises at the bay corner above its straight run from the drop station to its
+    tendon sector, so that it passes over the lanes of that side (:func:`crossing_rise_mm`): it leaves its drum
+    inside them and ends outside them, so it crosses every one in plan. Most designs with four joints or more need
+    none (joint 1's cable climbs to its level, the highest, as the lanes drop to theirs); with two or three joints
+    joint 1's level lies below the spools' plane and its cable came down with the lanes (1.2 to 3.1 mm apart where
+    4.6 mm was needed, on 123 of 196 seeded designs, 2026-11-29)."""
+    js = joint_stations_mm(p)
+    m = p.joints.tendon_moment_arm_mm
+    d = spool_dims(p)
+    x_bay, x_drop = -bay_end_station_mm(p), -drop_station_mm(p)
+    motors = motor_placements(p)
+    z_s = motors[0].z_cable_mm + side * d.end_offset_mm
+    z_t = tendon_level_mm(p, 0, side)
+    y0 = side * d.drum_radius_mm
+    tx, ty = _tangent_point(x_drop, y0, -js[0], 0.0, m, side)
+    f = (x_drop - x_bay) / (x_drop - tx)
+    a0 = (x_bay, y0 + f * (ty - y0), z_s + f * (z_t - z_s))
+    need = bay_crossing_gap_mm(p)
+    rise = 0.0
+    for mp in motors[1:]:
+        b0 = (x_bay, side * mp.lane_y_mm, z_s - lane_drop_mm(p, mp.joint))
+        b1 = (-js[0], 0.0, tendon_level_mm(p, mp.joint, side))
+        rise = max(rise, float(crossing_rise_mm(a0, (tx, ty, z_t), b0, b1, need,
+                                                RISE_MAX_PITCHES * tendon_level_pitch_mm(p))))
+    return rise if rise > 0.01 else 0.0
+
+
 def _turn_angle(a, b, c) -> float:
     u = np.subtract(b, a)
     v = np.subtract(c, b)
@@ -394,8 +474,8 @@ def cable_routes(p: Params) -> tuple[CableRoute, ...]:
     spool tangent -> (motors ahead of the rear one) exit guide into its lane -> level along the lane to the drop
     station, then down to the bay corner (:func:`lane_drop_mm` below the spool's plane) -> the hinge lines of the
     joints ahead, on the axis (y = 0, z = +/- h_j) -> tangent to the tendon sector of its joint (radius = moment
-    arm, z = +/- h_j). Joint 1's cable turns at the drop station straight toward its sector. Bends are the
-    route's turning points.
+    arm, z = +/- h_j). Joint 1's cable turns at the drop station straight toward its sector, rising over the
+    lanes at the bay corner where it must (:func:`joint1_rise_mm`). Bends are the route's turning points.
     """
     js = joint_stations_mm(p)
     m = p.joints.tendon_moment_arm_mm
@@ -414,6 +494,12 @@ def cable_routes(p: Params) -> tuple[CableRoute, ...]:
                 y_lane = side * d.drum_radius_mm
                 pts += [(mp.x_mm, y_lane, z_s), (x_drop, y_lane, z_s)]  # leaves the drum straight aft
                 kinds.append(("bay", 0))
+                rise = joint1_rise_mm(p, side)
+                if rise > 0.0:   # over the lanes: up at the bay corner, on the same line in plan
+                    tx, ty = _tangent_point(x_drop, y_lane, -js[0], 0.0, m, side)
+                    f = (x_drop - x_bay) / (x_drop - tx)
+                    pts.append((x_bay, y_lane + f * (ty - y_lane), z_s + f * (z_t - z_s) + rise))
+                    kinds.append(("drop", 0))
             else:
                 y_lane = side * mp.lane_y_mm
                 x_in = mp.x_mm - d.flange_radius_mm - p.guides.min_bend_radius_mm / 2

@@ -291,6 +291,69 @@ def channel_centre_lines(b: GuideBlock, arc=arc_points, straight=None) -> list[t
     return out
 
 
+def _straight_in_box(b: GuideBlock, step_mm: float):
+    """Points every ``step_mm`` along a straight stretch, only where it lies within the block's x range."""
+    x0, x1 = b.x_mm
+
+    def straight(a: np.ndarray, c: np.ndarray) -> np.ndarray:
+        dx = c[0] - a[0]
+        lo, hi = 0.0, 1.0
+        if abs(dx) > 1e-12:
+            t0, t1 = sorted(((x0 - a[0]) / dx, (x1 - a[0]) / dx))
+            lo, hi = max(lo, t0), min(hi, t1)
+        elif not x0 <= a[0] <= x1:
+            return np.empty((0, 3))
+        if hi < lo:
+            return np.empty((0, 3))
+        k = max(1, int(math.ceil((hi - lo) * float(np.linalg.norm(c - a)) / step_mm)))
+        return a + np.linspace(lo, hi, k + 1)[:, None] * (c - a)
+    return straight
+
+
+CLEARANCE_STEP_MM = 0.5
+"""Spacing of the points at which :func:`channel_clearance_mm` measures: between two lines 4.5 mm apart it reads at
+most 0.014 mm over their true distance (both ends of the closest pair a quarter step off)."""
+
+
+def channel_clearance_mm(p: Params, b: GuideBlock) -> list[tuple[float, tuple[int, int], tuple[int, int], np.ndarray]]:
+    """Closest approach of every two cables' channels inside the block (those whose extents come within two tube
+    ODs), between centre lines, ``(distance, (joint, side), (joint, side), point)``, closest first: each tube (its OD) must clear the other by
+    ``print.clearance_assembly_mm``, as the build's assembly check measures them on the tubes (their meshes lie
+    inside the round surfaces, so they clear by no less)."""
+    od = p.guides.ptfe_tube_od_mm
+    lines = []
+    for j, s, pts in channel_centre_lines(b, arc=lambda ch: arc_points(ch, 65),
+                                          straight=_straight_in_box(b, CLEARANCE_STEP_MM)):
+        pts = pts[inside_block(b, pts, od / 2)]
+        if len(pts):
+            lines.append(((j, s), pts))
+    out = []
+    boxes = [(pts.min(axis=0), pts.max(axis=0)) for _, pts in lines]
+    for a in range(len(lines)):
+        for c in range(a + 1, len(lines)):
+            (lo_a, hi_a), (lo_c, hi_c) = boxes[a], boxes[c]
+            if float(np.linalg.norm(np.maximum(0.0, np.maximum(lo_a - hi_c, lo_c - hi_a)))) > 2 * od:
+                continue              # boxes far apart: not among the closest that matter
+            d2 = ((lines[a][1][:, None, :] - lines[c][1][None, :, :]) ** 2).sum(axis=-1)   # a few hundred each
+            i = int(np.argmin(d2)) // d2.shape[1]
+            out.append((math.sqrt(float(d2.min())), lines[a][0], lines[c][0], lines[a][1][i]))
+    return sorted(out, key=lambda t: t[0])
+
+
+def _check_channel_clearance(p: Params, b: GuideBlock) -> None:
+    need = p.guides.ptfe_tube_od_mm + p.print.clearance_assembly_mm
+    close = channel_clearance_mm(p, b)
+    if close and close[0][0] < need - 1e-6:
+        d, (j1, s1), (j2, s2), q = close[0]
+        name = lambda j, s: f"joint {j}'s {'left' if s > 0 else 'right'} cable"   # noqa: E731
+        raise UserError(f"{b.label}: the tube channels of {name(j1, s1)} and {name(j2, s2)} come {d:.2f} mm apart "
+                        f"between centre lines at ({q[0]:.1f}, {q[1]:.1f}, {q[2]:.1f}) mm, where a tube's OD and "
+                        f"print.clearance_assembly_mm need {need:.2f} mm (guides.ptfe_tube_od_mm = "
+                        f"{p.guides.ptfe_tube_od_mm:g} mm; "
+                        f"a smaller guides.min_bend_radius_mm = {p.guides.min_bend_radius_mm:g} mm keeps the "
+                        f"channels nearer the routes, which clear it where they cross)")
+
+
 def _check_arc(label: str, ch: Channel, x_lo: float, x_hi: float, seg_in: float, seg_out: float,
                axes=(), keep_out: float = 0.0) -> None:
     t = ch.radius_mm * math.tan(ch.angle_rad / 2)
@@ -483,6 +546,8 @@ def bare_guide_blocks(p: Params) -> tuple[GuideBlock, ...]:
                              g.screw_diameter_mm, screw_hole_diameter_mm(p),
                              ((rear.x_mm, 0.0, env_r),), seat_z_mm=seat, notch_mm=notch,
                              print_rotation=(180.0, 0.0, 0.0)))
+    for b in blocks:
+        _check_channel_clearance(p, b)
     return tuple(blocks)
 
 

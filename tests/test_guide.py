@@ -338,3 +338,72 @@ def test_a_large_drums_posts_and_guide_screws_stay_clear_of_its_spools():
                 assert kr == pytest.approx(env)
                 wall = math.hypot(x - kx, y - ky) - kr - b.screw_hole_diameter_mm / 2
                 assert wall >= rule - 1e-9, (b.label, x, y, wall)
+
+
+def test_crossing_rise_on_a_hand_worked_case():
+    """Run a from (0, 0, 0) to (10, 0, 0), run b across it in plan at x = 5 (from y = -5 to 5), 1 mm lower: they
+    cross at half of a (f1 = 0.5), 1 mm apart. Raised by d at its start, a's line is (10, 0, -d) and the common
+    normal of the two lines makes the distance (1 + d/2) / sqrt(1 + d^2/100); 4.5 mm apart needs
+    0.19 d^2 + 4 d - 77 = 0 (squared), d = (-4 + sqrt(16 + 58.52)) / 0.38 = 12.1909 mm. Checked again with numpy's
+    cross product; and no rise where b passes beside a or a clears it already; columns of designs as one."""
+    need = 4.5
+    rise = float(L.crossing_rise_mm((0.0, 0.0, 0.0), (10.0, 0.0, 0.0), (5.0, -5.0, -1.0), (5.0, 5.0, -1.0), need, 50.0))
+    assert rise == pytest.approx((-4 + math.sqrt(16 + 4 * 0.19 * 77)) / 0.38, abs=1e-6)
+    e, f = np.array([10.0, 0.0, -rise]), np.array([0.0, 10.0, 0.0])
+    n = np.cross(e, f)
+    assert abs(np.dot(np.array([5.0, -5.0, -1.0]) - np.array([0.0, 0.0, rise]), n)) / np.linalg.norm(n) \
+        == pytest.approx(need, abs=1e-6)
+    assert L.crossing_rise_mm((0, 0, 0), (10, 0, 0), (5, 1, -1), (5, 5, -1), need, 50.0) == 0.0     # beside a
+    assert L.crossing_rise_mm((0, 0, 0), (10, 0, 0), (5, -5, -6), (5, 5, -6), need, 50.0) == 0.0    # clear
+    assert L.crossing_rise_mm((0, 0, 0), (10, 0, 0), (5, -5, -1), (5, 5, -1), need, 5.0) == 5.0     # capped
+    cols = L.crossing_rise_mm((np.zeros(3), np.zeros(3), np.zeros(3)), (10.0, 0.0, 0.0),
+                              (5.0, -5.0, np.array([-1.0, -6.0, -3.0])), (5.0, 5.0, np.array([-1.0, -6.0, -3.0])),
+                              need, 50.0)
+    one = [float(L.crossing_rise_mm((0, 0, 0), (10, 0, 0), (5, -5, z), (5, 5, z), need, 50.0)) for z in (-1, -6, -3)]
+    assert cols == pytest.approx(one, abs=1e-12)
+
+
+BAY_CROSSING = __import__("pathlib").Path(__file__).parent / "data" / "seeded_bay_crossing.toml"
+
+
+def _clear_route_caches():
+    from swiftfin.cad.cables import tube_runs
+    from swiftfin.layout import guide_plan
+    for fn in (L.cable_routes, L.tube_seat_shoulder_mm, guide_plan.bare_guide_blocks, guide_plan.guide_blocks,
+               tube_runs):
+        getattr(fn, "cache_clear", lambda: None)()
+
+
+def test_joint_1s_cable_passes_over_the_lanes_it_crosses(monkeypatch):
+    """Joint 1's cable leaves its drum inside the lanes of the motors ahead and ends outside them, at its sector:
+    it crosses each in plan. With two or three joints its level lies below the spools' plane and it came down with
+    the lanes (tests/data/seeded_bay_crossing.toml, 2 joints). It now rises over them at the bay corner. Measured on
+    the bay guide's tubes as the build makes them (their meshes, manifold's min_gap): every two tubes clear by
+    ``print.clearance_assembly_mm``. Without the rise the guide's channel check refuses the design, joint 1 against
+    joint 2."""
+    from itertools import combinations
+
+    from swiftfin.cad.cables import cable_parts, tube_runs
+    from swiftfin.layout.design import load_design
+    from swiftfin.layout.guide_plan import bare_guide_blocks
+    p = load_design(BAY_CROSSING)
+    assert p.joints.count == 2
+    assert min(L.joint1_rise_mm(p, s) for s in (1, -1)) > 0.0
+    routes = {(r.joint, r.side): r for r in L.cable_routes(p)}
+    for side in (1, -1):        # the rise: one more bend in the bay guide, on the same line in plan
+        assert [b.kind for b in routes[0, side].bends] == ["bay", "drop"]
+    tubes = [t for t in tube_runs(p) if t.holder == "guide_bay"]
+    assert {(t.joint, t.side) for t in tubes} == {(1, 1), (1, -1), (2, 1), (2, -1)}
+    parts = cable_parts(p, pieces=(), tubes=tubes)
+    need = p.print.clearance_assembly_mm
+    gaps = {(a.label, b.label): a.manifold.min_gap(b.manifold, 3 * need) for a, b in combinations(parts, 2)}
+    assert min(gaps.values()) >= need, gaps
+    _clear_route_caches()
+    monkeypatch.setattr(L, "joint1_rise_mm", lambda p, side: 0.0)
+    try:
+        with pytest.raises(UserError, match=r"guide_bay: the tube channels of joint 1's (left|right) cable and "
+                                            r"joint 2's"):
+            bare_guide_blocks(p)
+    finally:
+        monkeypatch.undo()
+        _clear_route_caches()
