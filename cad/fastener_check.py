@@ -28,7 +28,7 @@ import numpy as np
 
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
-from swiftfin.layout.fastening import Fastener
+from swiftfin.layout.fastening import WALL_PROBE_INSET_MM, Fastener
 
 RAY_DIRECTIONS = 12
 """Rays round the axis at each depth (every 30 deg)."""
@@ -36,7 +36,7 @@ DEPTHS = 4
 """Depths sampled along each hole (evenly, 0.3 mm inside its ends)."""
 RAY_LENGTH_MM = 25.0
 """How far a wall ray looks: a wall thicker than this is reported as this."""
-START_INSET_MM = 0.05
+START_INSET_MM = WALL_PROBE_INSET_MM
 """Rays start this far outside the hole's nominal radius (inside the wall, past the tessellation of the hole)."""
 TOOL_REACH_MM = 50.0
 """Length of the driver that must reach the head: a precision screwdriver's shank (Wera/Wiha: 40-60 mm)."""

@@ -35,6 +35,10 @@ SEATS = ("insert", "nut", "self_tap", "press", "slip", "tapped")
 """``"tapped"``: the thread part is bought with its own tapped hole (a motor's face): ``meta["hole_depth_mm"]`` is
 the depth of its thread; the screw reaches at least 1 d into it (a steel screw in an aluminium or steel thread:
 ISO 898-2 nuts are 0.8 d high) and stops ``TAPPED_TIP_MARGIN_MM`` short of its end."""
+WALL_PROBE_INSET_MM = 0.05
+"""The fastener check's wall rays start this far outside a hole's nominal radius (inside the wall, past the
+tessellation of the hole; ``cad/fastener_check.py``): a wall it reads is the wall less this. Parts that keep the
+check's wall round a hole add it."""
 TAPPED_ENGAGEMENT_MIN_D = 1.0
 TAPPED_TIP_MARGIN_MM = 0.3
 """A screw's tip stops this far short of the end of a blind tapped thread (the last pitch of a tapped thread is

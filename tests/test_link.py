@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 import build123d as bd
 import numpy as np
@@ -242,3 +243,28 @@ def test_one_solid_drops_crumbs_but_not_pieces():
     piece = bd.Box(1, 1, 1).moved(bd.Location((20, 0, 0)))
     with pytest.raises(BuildError, match="part: expected one solid, got 2"):
         one_solid(bd.Compound([big, piece]), "part")
+
+
+def test_flange_screws_keep_the_checks_wall_on_a_wide_line():
+    """tests/data/seeded_bay_crossing.toml prints 0.50 mm lines, so the fastener check asks 1.00 mm of wall round
+    each flange screw's clearance hole. The rows stood the head's radius and the margin (2.2 mm for M2) from the
+    flange's top and bottom edges: 1.00 mm of wall, which the check's probe (starting 0.05 mm inside the wall) read as
+    0.95, and the build was refused at its end (2026-11-29). Measured with the build's own check on the links as the
+    build makes them, tessellated as the build does: every flange screw's wall passes, the thinnest over the ask."""
+    from swiftfin.cad.fastener_check import check_fasteners
+    from swiftfin.cad.registry import family_function
+    from swiftfin.layout.design import load_design
+    from swiftfin.layout.link_plan import link_fasteners
+    from tests.conftest import manifold_of
+    p = load_design(Path(__file__).parent / "data" / "seeded_bay_crossing.toml")
+    assert p.print.line_width_mm > 0.5
+    links = {ps.label: ps for ps in family_function("link")(p)}
+    mans = {k: manifold_of(ps.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
+            for k, ps in links.items()}
+    flange = [f for f in link_fasteners(p) if "_flange_" in f.label]
+    assert len(flange) == 4 * p.joints.count
+    rep = check_fasteners(p, flange, mans, raise_on_failure=False)
+    walls = [w for w in rep.walls if w.feature == "clearance hole"]
+    assert len(walls) == len(flange)
+    need = p.rules.wall_min_line_widths * p.print.line_width_mm
+    assert min(w.wall_mm for w in walls) >= need, [str(w) for w in walls if w.wall_mm < need]
