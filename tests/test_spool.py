@@ -388,10 +388,12 @@ def test_the_loader_refuses_spools_that_cannot_be_made_naming_the_key(raw, key, 
     """The spools' numbers need no CAD kernel, so the loader makes them (layout/design.py): a design whose spools
     cannot be made is refused under the key to change, once, before a build starts. Three of six seeded designs the
     loader accepted were refused by the spool family half-way through ``swiftfin build`` (2026-11-29), and
-    ``swiftfin check`` had passed them to it."""
+    ``swiftfin check`` had passed them to it. Other plans may refuse the same key too (a 10 mm drum also brings
+    joint 1's cable 4.41 mm from joint 2's in the bay guide, where 4.50 are needed); the spools' reason comes
+    once."""
     from swiftfin.layout.design import design_problems
     _, problems = design_problems(raw)
-    assert len(problems) == 1, [str(x) for x in problems]
-    assert problems[0].key == key and words in problems[0].expected, str(problems[0])
+    mine = [x for x in problems if words in x.expected]
+    assert len(mine) == 1 and all(x.key == key for x in problems), [str(x) for x in problems]
     section, name = key.split(".")
-    assert problems[0].value == raw[section][name]
+    assert mine[0].value == raw[section][name]
