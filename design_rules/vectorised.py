@@ -641,6 +641,28 @@ class _Group:
             done |= take
         return out_x, out_y
 
+    def _joint1_lift(self, pitch_t):
+        """``layout.geometry.joint1_lift_mm``: (N,)."""
+        c, n = self.col, self.n
+        if n < 2:
+            return np.zeros(self.N)
+        cs, od, dc = c("print.clearance_sliding_mm"), c("guides.ptfe_tube_od_mm"), c("cable.diameter_mm")
+        r_bore = od / 2 + cs
+        reach = (c("joints.tendon_moment_arm_mm") - dc / 2 + 1.3 * (dc / 2 + cs / 2)   # sector_radius_mm
+                 + c("print.clearance_assembly_mm") + r_bore)
+        x_h, x_bay = -self.js[0], -self.bay_end
+        top = np.full(self.N, -np.inf)
+        for j in range(1, n):
+            run = np.hypot(x_h - x_bay, self.lane[j])
+            f = np.maximum(0.0, 1.0 - reach / run)
+            for side in (1, -1):
+                z_a = self.z_cable + side * self.end_offset - j * LANE_DROP_PITCHES * pitch_t
+                z_b = (n - 1 - j) * 2 * pitch_t + side * pitch_t / 2
+                top = np.maximum(top, np.maximum(z_a + f * (z_b - z_a), z_b))
+        floor = (n - 1) * 2 * pitch_t - pitch_t / 2 - od / 2 - cs                  # sector_room_floor_mm
+        lift = top + r_bore - floor
+        return np.where(lift > 0.0, np.ceil(lift * 100.0) / 100.0, 0.0)
+
     def _joint1_rise(self, side, z_s, z_t0, pitch_t):
         """``layout.geometry.joint1_rise_mm`` for one side: (N,)."""
         c, n = self.col, self.n
@@ -673,11 +695,12 @@ class _Group:
         bad = np.zeros(N, bool)
         zeros = np.zeros(N)
         self.guide_turn = np.zeros(N)      # layout.geometry.max_guide_turn_rad: exit, or drop + bay, in one guide
+        lift = self._joint1_lift(pitch_t)  # layout.geometry.joint1_lift_mm
         for j in range(n):
             x_m = -self.motor_s[j]
             for si, side in enumerate((1, -1)):
                 z_s = self.z_cable + side * self.end_offset
-                z_t = (n - 1 - j) * 2 * pitch_t + side * pitch_t / 2
+                z_t = (n - 1 - j) * 2 * pitch_t + side * pitch_t / 2 + (lift if j == 0 else 0.0)
                 pts = []
                 if j == 0:
                     y_lane = side * self.drum_r

@@ -213,14 +213,69 @@ def tendon_level_pitch_mm(p: Params) -> float:
             + MIN_WEB_LINES * p.print.line_width_mm)
 
 
-def tendon_level_mm(p: Params, joint: int, side: int) -> float:
-    """Height of joint ``joint``'s (0-based) ``side`` cable in the tail: on the hinge lines it crosses and on
-    its tendon sector. Pairs are stacked upward from the axis, the last joint lowest (the tail is smallest
-    there) and joint 1 highest (nearest the spool planes); left cable above right by one level pitch.
-    """
+def _stacked_level_mm(p: Params, joint: int, side: int) -> float:
     n = p.joints.count
     pitch = tendon_level_pitch_mm(p)
     return (n - 1 - joint) * 2 * pitch + side * pitch / 2
+
+
+def tendon_level_mm(p: Params, joint: int, side: int) -> float:
+    """Height of joint ``joint``'s (0-based) ``side`` cable in the tail: on the hinge lines it crosses and on
+    its tendon sector. Pairs are stacked upward from the axis, the last joint lowest (the tail is smallest
+    there) and joint 1 highest (nearest the spool planes); left cable above right by one level pitch. Joint 1's
+    pair sits :func:`joint1_lift_mm` higher still where the cables passing under its sector need it.
+    """
+    return _stacked_level_mm(p, joint, side) + (joint1_lift_mm(p) if joint == 0 else 0.0)
+
+
+def sector_radius_mm(p: Params) -> float:
+    """Outer radius of a tendon sector: the groove's centre (its root at the moment arm less the cable's radius,
+    the groove's radius the cable's and half the sliding clearance) and 0.3 of the groove's radius, so the groove's
+    opening (1.9 of its radius) is wider than the cable (:mod:`swiftfin.layout.joints`)."""
+    rg = p.cable.diameter_mm / 2 + p.print.clearance_sliding_mm / 2
+    return p.joints.tendon_moment_arm_mm - p.cable.diameter_mm / 2 + 1.3 * rg
+
+
+def sector_room_floor_mm(p: Params, joint: int, lift_mm: float = 0.0) -> float:
+    """Floor of the room a link's tendon sector swings in, cut into its parent's rear bulkhead: the sector's floor
+    (a tube's radius under the joint's lower cable where cables of the joints behind cross under it, else half a
+    level pitch) less the sliding clearance (:func:`swiftfin.cad.clevis.clevis_cut`). ``lift_mm``: joint 1's lift
+    (the stacked level is used, so that :func:`joint1_lift_mm` can ask it)."""
+    under = p.guides.ptfe_tube_od_mm / 2 if joint < p.joints.count - 1 else tendon_level_pitch_mm(p) / 2
+    return _stacked_level_mm(p, joint, -1) + lift_mm - under - p.print.clearance_sliding_mm
+
+
+@functools.lru_cache(maxsize=256)
+def joint1_lift_mm(p: Params) -> float:
+    """How far joint 1's cable pair sits above its place in the stack [mm]: the least lift that keeps the bore of
+    every cable passing under its tendon sector (the joints behind, from the bay corner down to joint 1's hinge
+    line) under the room the sector swings in, wherever the bore comes within that room's radius of joint 1's axis.
+
+    Why: joint 1's sector room is cut into the head's rear wall, the dry compartment's, whose bores are the cables'
+    glands. The passing cables come down from the spools' plane to their levels; with two or three joints their
+    levels lie low and they crossed the wall still inside the sector's band, so the room cut their glands short:
+    one of two seeded designs (seeds 16, 2027) had a gland wetted through by its cable's stroke (2026-11-29), found
+    only at the build's end. The room's radius is the sector's, the assembly clearance and the bore's radius; the
+    bore clears its floor by the bore's radius. The default design needs none."""
+    n = p.joints.count
+    if n < 2:
+        return 0.0
+    x_h = -joint_stations_mm(p)[0]
+    x_bay = -bay_end_station_mm(p)
+    motors = motor_placements(p)
+    d = spool_dims(p)
+    r_bore = tube_bore_diameter_mm(p, "bulkhead") / 2
+    reach = sector_radius_mm(p) + p.print.clearance_assembly_mm + r_bore
+    top = -math.inf
+    for mp in motors[1:]:
+        for side in (1, -1):
+            z_a = mp.z_cable_mm + side * d.end_offset_mm - lane_drop_mm(p, mp.joint)
+            z_b = _stacked_level_mm(p, mp.joint, side)
+            run = math.hypot(x_h - x_bay, mp.lane_y_mm)          # the bay corner to the hinge line, in plan
+            f = max(0.0, 1.0 - reach / run)                     # where the bore comes within the room's reach
+            top = max(top, z_a + f * (z_b - z_a), z_b)
+    lift = top + r_bore - sector_room_floor_mm(p, 0)
+    return math.ceil(lift * 100.0) / 100.0 if lift > 0.0 else 0.0
 
 
 @functools.lru_cache(maxsize=256)

@@ -319,7 +319,7 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     rg = dc / 2 + cs / 2
     m = p.joints.tendon_moment_arm_mm
     R_t = m - dc / 2 + rg                     # groove centre radius: root at m - dc/2
-    R_s = R_t + 0.3 * rg                      # groove opening 1.9 r_g > cable diameter
+    R_s = L.sector_radius_mm(p)               # R_t + 0.3 r_g: groove opening 1.9 r_g > cable diameter
     # tangent points of the two routes of this joint (last route point)
     tang = {}
     for r in L.cable_routes(p):

@@ -5,14 +5,12 @@ from __future__ import annotations
 
 import pytest
 
-from swiftfin.cad.dry_check import (Opening, check_dry_wall, dry_wall_problems, sealed_part_labels, wall_openings,
+from swiftfin.cad.dry_check import (check_dry_wall, dry_wall_problems, sealed_part_labels, wall_openings,
                                      wall_zone)
 
 
 @pytest.fixture(scope="module")
 def sealed(default_params, default_parts):
-    from swiftfin.cad.assembly import Placed
-    from swiftfin.exports.brep import tessellate
     labels = sealed_part_labels(default_params)
     specs = {s.label: s for s in default_parts if s.label in labels}
     assert set(specs) == set(labels)
@@ -156,7 +154,6 @@ def test_a_hole_drilled_in_the_dry_wall_refuses_the_build_with_its_part_and_plac
 def test_a_wall_too_thin_for_the_clevis_room_reopens_the_window_and_is_refused(default_params):
     """The defect this check was written for: with glands of 2 mm the rear wall is the 3 mm bulkhead again, joint
     1's clevis room cuts through it, and the build refuses the window with its part and place."""
-    from swiftfin.cad.hull import make_hull_segments
     from swiftfin.cad.registry import family_function
     from swiftfin.core.params import replace_key
 
@@ -168,3 +165,57 @@ def test_a_wall_too_thin_for_the_clevis_room_reopens_the_window_and_is_refused(d
     assert window and window[0].part.startswith("hull_head_rear"), rep.unsealed
     assert any("not a declared sealed crossing" in pr for pr in problems)
     assert any("no longer than the cable's stroke" in pr for pr in problems)
+
+
+def test_cables_passing_under_joint_1s_sector_keep_their_glands_clear_of_its_room(monkeypatch):
+    """With two joints (tests/data/seeded_bay_crossing.toml) joint 2's cables come down from the spools' plane to
+    their low level and crossed the head's rear wall still inside the band of joint 1's tendon sector: the clevis
+    room cut their glands to nothing (0.0 mm packed of a 7.7 mm stroke), found only at the build's end. Joint 1's
+    pair now sits higher (``layout.geometry.joint1_lift_mm``). Measured along each passing gland's bore, 400 points
+    from its mouth to the wall's back face, against joint 1's hardware (``layout.joints``): wherever the bore comes
+    within the room's radius of the axis it stays under the room's floor; each gland runs the wall's full depth to
+    its seat. Without the lift the bores break into the room and the glands are wetted through."""
+    from pathlib import Path
+
+    import numpy as np
+
+    from swiftfin.cad.dry_check import cable_glands
+    from swiftfin.layout import geometry as L
+    from swiftfin.layout.design import load_design
+    from swiftfin.layout.hull_plan import dry_bulkhead
+    from swiftfin.layout.joints import joint_hardware
+
+    p = load_design(Path(__file__).parent / "data" / "seeded_bay_crossing.toml")
+    assert p.joints.count == 2 and L.joint1_lift_mm(p) > 2 * L.tendon_level_pitch_mm(p)
+
+    def passing(p):
+        h = joint_hardware(p, 1)
+        reach = h.sector_radius_mm + p.print.clearance_assembly_mm
+        floor = h.z_sector_lo_mm - p.print.clearance_sliding_mm
+        out = []
+        for g in cable_glands(p):
+            if g.joint == 1:
+                continue
+            a, b = np.asarray(g.start_mm), np.asarray(g.end_mm)
+            q = a + np.linspace(0.0, 1.0, 400)[:, None] * (b - a)
+            q = q[q[:, 0] >= -dry_bulkhead(p).s_back_mm]           # in the wall
+            near = np.hypot(q[:, 0] - h.x_mm, q[:, 1]) < reach + g.radius_mm
+            out.append((g, near.sum(), np.min(floor - (q[near, 2] + g.radius_mm), initial=np.inf)))
+        return out
+
+    got = passing(p)
+    assert len(got) == 2
+    wall = dry_bulkhead(p).s_back_mm - dry_bulkhead(p).s_front_mm
+    for g, n_near, margin in got:
+        assert n_near > 0 and margin >= -1e-6, (g.label, margin)     # within the room's reach, under its floor
+        assert g.packed_mm > wall - L.tube_seat_shoulder_mm(p) - 1.0 and g.packed_mm > g.stroke_mm
+    monkeypatch.setattr(L, "joint1_lift_mm", lambda p: 0.0)
+    for fn in (L.cable_routes, L.tube_seat_shoulder_mm):
+        fn.cache_clear()
+    try:
+        for g, n_near, margin in passing(p):
+            assert margin < -1.0 and g.packed_mm <= g.stroke_mm, (g.label, margin, g.packed_mm)
+    finally:
+        monkeypatch.undo()
+        for fn in (L.cable_routes, L.tube_seat_shoulder_mm):
+            fn.cache_clear()
