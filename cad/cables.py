@@ -30,7 +30,7 @@ The wraps on the spools' drums are not modelled (they lie in the spool's own gro
 * in every **guide channel**, over the stretch of the channel's centre line that lies inside its printed block,
   from the mouth where the channel opens to the tube's seat (:meth:`swiftfin.layout.guide_plan.GuideBlock.tube_seat`):
   ``tube_<guide>_<J>_<side>``, link 0;
-* in every **bulkhead hole** of the hull (:func:`swiftfin.cad.hull.bulkhead_passages`: a bore of PTFE tube OD + 2
+* in every **bulkhead hole** of the hull (:func:`swiftfin.layout.gland_plan.bulkhead_passages`: a bore of PTFE tube OD + 2
   sliding clearance along the route), from the bulkhead's front face to its seat: ``tube_<hull piece>_<J>_<side>``,
   on the piece's link.
 
@@ -279,7 +279,8 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
                 label = f"tube_{b.label}_{joint}_{SIDE_NAME[side]}{_suffix(n, len(runs))}"
                 out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, pts)),
                                    g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
-    from swiftfin.cad.hull import bulkhead_passages, hull_pieces   # the hull cuts its holes from the same
+    from swiftfin.layout.gland_plan import bulkhead_passages
+    from swiftfin.cad.hull import hull_pieces   # the hull cuts its holes from the same
     for pc in hull_pieces(p):
         found: dict[tuple, list] = {}
         for route, q0, _, seat in bulkhead_passages(p, pc):

@@ -190,29 +190,20 @@ tessellation and the loft's departure from the exact ellipse stay under it)."""
 
 
 def cable_glands(p: Params) -> tuple[SealedCrossing, ...]:
-    """The cable glands through the dry compartment's rear wall: one per cable that crosses it, along the cable's
-    route from the wall's dry face to its back face (:func:`swiftfin.cad.hull.bulkhead_passages`), the PTFE tube's
-    bore round it; ``packed_mm`` is the tube's length from its mouth on the dry face to its seat."""
-    from swiftfin.cad.hull import bore_ahead_mm, bulkhead_passages
-    from swiftfin.layout.geometry import joint_stop_angles_rad, tube_bore_diameter_mm
-    from swiftfin.layout.hull_plan import hull_pieces
-    dry = dry_bulkhead(p)
-    if dry is None or dry.rear_joint is None:
-        return ()
-    pc = next(q for q in hull_pieces(p) if q.name == dry.piece)
-    stops = joint_stop_angles_rad(p)
+    """The cable glands through the dry compartment's rear wall (:func:`swiftfin.layout.gland_plan.cable_glands`) as
+    declared crossings: along each cable's bore from ahead of the wall's dry face (where the bore is cut from) to
+    2 mm past its back face, the bore's radius round it; ``packed_mm`` is the tube's length from its mouth on the
+    dry face to its seat."""
+    from swiftfin.layout import gland_plan
+    from swiftfin.layout.geometry import tube_bore_diameter_mm
     r = tube_bore_diameter_mm(p, "bulkhead") / 2
     out = []
-    for route, front, back, seat in bulkhead_passages(p, pc):
-        if not -dry.s_back_mm <= front[0] <= -dry.s_front_mm + 1e-6:
-            continue
-        u = (back - front) / np.linalg.norm(back - front)
-        packed = float((seat - front) @ u) if seat is not None else 0.0
-        side = "left" if route.side > 0 else "right"
-        ahead = bore_ahead_mm(p, u[0])
-        out.append(SealedCrossing("cable_gland", f"gland_{route.joint + 1}_{side}", tuple(map(float, front - ahead * u)),
-                                  tuple(map(float, back + 2 * u)), r, packed,
-                                  p.joints.tendon_moment_arm_mm * stops[route.joint], route.joint + 1))
+    for g in gland_plan.cable_glands(p):
+        u = g.axis
+        ahead = gland_plan.bore_ahead_mm(p, u[0])
+        out.append(SealedCrossing("cable_gland", g.label, tuple(map(float, np.asarray(g.front_mm) - ahead * u)),
+                                  tuple(map(float, np.asarray(g.back_mm) + 2 * u)), r, g.packed_mm, g.stroke_mm,
+                                  g.joint))
     return tuple(out)
 
 

@@ -22,7 +22,7 @@ Interpretations (body frame of :mod:`swiftfin.layout.geometry`, mm):
   carries the clevis: an upper and a lower lug reaching back to the joint axis with the pin bores, two stop
   blocks on the lower lug, and clearance cuts where the link's sector, window column and stop tongue swing.
   The child's front bulkhead carries the link's four bolt holes.
-* **Cable passages** (:func:`bulkhead_passages`): wherever a route of
+* **Cable passages** (:func:`swiftfin.layout.gland_plan.bulkhead_passages`): wherever a route of
   :func:`swiftfin.layout.geometry.cable_routes` crosses the mid-plane of a bulkhead, a bore of PTFE tube OD + 2
   sliding clearance along the route from the front face to the tube's seat, a printed shoulder short of the back
   face, and the cable's exit hole through that shoulder (the tube goes in from the front and is bonded).
@@ -57,8 +57,9 @@ from swiftfin.layout import geometry as L
 from swiftfin.cad.kernel import bd, fuse_one_by_one, precise_volume_mm3
 from swiftfin.layout.fin_plan import tang_dims_mm
 from swiftfin.cad.clevis import clevis_add, clevis_cut
+from swiftfin.layout.gland_plan import bore_ahead_mm, bulkhead_passages
 from swiftfin.cad.fastening import SLOT_REACH_MM
-from swiftfin.cad.link import JointHardware, all_joint_hardware, box, isect, one_solid, rod
+from swiftfin.cad.link import all_joint_hardware, box, isect, one_solid, rod
 from swiftfin.cad.part import PartSpec
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
@@ -112,95 +113,12 @@ def _outer(p: Params, pc: HullPiece) -> bd.Solid:
     return one_solid(body.fuse(cap).clean(), pc.name)
 
 
-def _bulkheads(p: Params, pc: HullPiece) -> list[tuple[float, float]]:
-    """(s_front, s_back) of each bulkhead of the piece; the dry compartment's rear wall is as thick as its cable
-    glands need (:func:`swiftfin.layout.hull_plan.dry_bulkhead`)."""
-    t = p.hull.bulkhead_thickness_mm
-    out = []
-    if pc.front_joint is not None:
-        out.append((pc.s_start_mm, pc.s_start_mm + t))
-    dry = dry_bulkhead(p)
-    if dry is not None and dry.piece == pc.name and dry.rear_joint is not None:
-        out.append((dry.s_front_mm, pc.s_end_mm))
-    elif pc.rear_joint is not None:
-        out.append((pc.s_end_mm - t, pc.s_end_mm))
-    return out
-
-
 def _cavity_range(p: Params, pc: HullPiece) -> tuple[float, float]:
     return cavity_range_mm(p, pc)
 
 
-def in_clevis_cut(p: Params, h, pts: np.ndarray, hole_r: float) -> bool:
-    """Whether a hole of radius ``hole_r`` round the segment ``pts`` (two points) reaches into the room the parent's
-    rear bulkhead leaves for joint ``h``'s link (the sector and knuckle cylinders of
-    :func:`swiftfin.cad.clevis.clevis_cut`)."""
-    ca, cs = p.print.clearance_assembly_mm, p.print.clearance_sliding_mm
-    cuts = ((h.sector_radius_mm + ca, h.z_sector_lo_mm - cs, h.z_sector_hi_mm + cs),
-            (h.knuckle_radius_mm + ca, h.z_knuckle_lo_mm - cs, h.z_sector_lo_mm))
-    q = pts[0] + np.linspace(0, 1, 11)[:, None] * (pts[1] - pts[0])
-    rho = np.hypot(q[:, 0] - h.x_mm, q[:, 1])
-    for R, z0, z1 in cuts:
-        if np.any((rho < R + hole_r) & (q[:, 2] > z0 - hole_r) & (q[:, 2] < z1 + hole_r)):
-            return True
-    return False
-
-
-def bulkhead_passages(p: Params, pc: HullPiece) -> list[tuple]:
-    """Where the cable routes cross the bulkheads of this piece: ``(route, front, back, seat)``, the route's segment
-    that crosses a bulkhead's mid-plane from its tube's mouth (where the route meets the front face, moved back
-    along the route until the rim of the tube's square-cut end is inside the face) to the back face (body frame,
-    mm), and where its
-    PTFE tube ends on the printed shoulder (:func:`swiftfin.layout.geometry.tube_seat_shoulder_mm` short of the back
-    face, or of where its bore would break into the clevis's room for the link behind). ``seat`` is None where the
-    passage holds no tube: the bulkhead is too thin for a tube of ``MIN_TUBE_MM`` and its shoulder. Through the dry
-    compartment's rear wall the tube is a cable gland (catalogues/seals.toml), potted along its bore."""
-    hw = {h.joint: h for h in all_joint_hardware(p)}
-    r_bore = L.tube_bore_diameter_mm(p, "bulkhead") / 2
-    tube_r = p.guides.ptfe_tube_od_mm / 2
-    shoulder = L.tube_seat_shoulder_mm(p)
-    out = []
-    for sf, sb in _bulkheads(p, pc):
-        xf, xb = -sf, -sb
-        xm = (xf + xb) / 2
-        rear = pc.rear_joint if sb == pc.s_end_mm else None
-        for route in L.cable_routes(p):
-            pts = np.asarray(route.points_mm, float)
-            for a, b in zip(pts[:-1], pts[1:]):
-                if (a[0] - xm) * (b[0] - xm) >= 0:
-                    continue
-                d = b - a
-                front, back = a + (xf - a[0]) / d[0] * d, a + (xb - a[0]) / d[0] * d
-                u = (back - front) / np.linalg.norm(back - front)
-                # the tube's mouth sits back in its bore until the rim of its square-cut end is inside the face
-                front = front + tube_r * math.sqrt(max(0.0, 1.0 - u[0] ** 2)) / abs(u[0]) * u
-                end = back
-                if rear is not None and in_clevis_cut(p, hw[rear], np.array([front, back]), r_bore):
-                    # the bore would break into the clevis room: the tube stops a shoulder short of where it would
-                    lo, hi = 0.0, 1.0
-                    for _ in range(30):
-                        mid = 0.5 * (lo + hi)
-                        if in_clevis_cut(p, hw[rear], np.array([front, front + mid * (back - front)]), r_bore):
-                            hi = mid
-                        else:
-                            lo = mid
-                    end = front + lo * (back - front)
-                seat = end - shoulder * u
-                if float((seat - front) @ u) < L.MIN_TUBE_MM:
-                    seat = None
-                out.append((route, front, back, seat))
-    return out
-
-
-def bore_ahead_mm(p: Params, axis_x: float) -> float:
-    """How far ahead of a tube's mouth, along its route (``axis_x`` the route direction's x component), the bore of
-    a bulkhead passage is cut: 2 mm along the body, plus enough that the tilted bore opens fully on the front face
-    where the mouth sits back in it."""
-    return (2.0 + L.tube_bore_diameter_mm(p, "bulkhead")) / abs(axis_x)
-
-
 def _cable_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
-    """The cable passages through the bulkheads (:func:`bulkhead_passages`): the PTFE tube's bore from the front
+    """The cable passages through the bulkheads (:func:`swiftfin.layout.gland_plan.bulkhead_passages`): the PTFE tube's bore from the front
     face to the tube's seat and the cable's exit hole (:func:`swiftfin.layout.geometry.cable_exit_hole_mm`) on
     through the shoulder; a passage without a tube is the bore straight through."""
     r_bore = L.tube_bore_diameter_mm(p, "bulkhead") / 2

@@ -1393,14 +1393,36 @@ def _cradle_made(p: Params, i: int, c) -> bool:
 def gland_length_needed_mm(p: Params) -> float:
     """The cable glands' packed length a designer would give the design: its longest stroke (moment arm x stop
     angle) plus the grease plug that holds its design depth with the seal table's safety factor, rounded up to the
-    millimetre (within the key's range)."""
+    millimetre (within the key's range); then as much longer as joint 1's own glands need to be that long over
+    their own stroke, where its sector's room in the wall's back face shortens them
+    (:func:`swiftfin.layout.gland_plan.cable_glands`), a millimetre at a time, as far as the bay guide leaves the
+    wall room. A design whose glands cannot be measured keeps the first length (the loader says why)."""
+    from swiftfin.core.errors import BuildError, UserError
+    from swiftfin.core.params import replace_key
     from swiftfin.layout.geometry import joint_stop_angles_rad
+    from swiftfin.layout.gland_plan import cable_glands, wall_room_mm
     g = cable_gland()
     stroke = p.joints.tendon_moment_arm_mm * max(joint_stop_angles_rad(p))
     env = p.environment
     plug = (g.pressure_safety_factor * env.water_density_kg_m3 * env.gravity_m_s2 * env.design_depth_m
             * g.radial_gap_mm / (2.0 * g.grease_yield_stress_pa))
-    return float(min(60.0, max(2.0, math.ceil(stroke + plug))))
+    first = float(min(60.0, max(2.0, math.ceil(stroke + plug))))
+    length = first
+    try:
+        most = min(60.0, first + wall_room_mm(replace_key(p, "hull.cable_gland_length_mm", first)))
+        for _ in range(6):
+            q = replace_key(p, "hull.cable_gland_length_mm", length)
+            short = max(((gl.stroke_mm + plug - gl.packed_mm) * abs(gl.axis[0]) for gl in cable_glands(q)),
+                        default=0.0)
+            if short <= 0.0:
+                return length
+            nxt = float(min(math.ceil(length + short), math.floor(most)))
+            if nxt <= length:
+                return length
+            length = nxt
+    except (BuildError, UserError):
+        return first
+    return length
 
 
 def _laid_out_nowhere(p: Params) -> bool:

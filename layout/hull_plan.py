@@ -263,7 +263,7 @@ class DryBulkhead:
     (``hull.cable_gland_length_mm`` of potted tube plus its seat's shoulder, and never thinner than
     ``hull.bulkhead_thickness_mm``), so each cable's gland runs through solid wall; joint ``rear_joint``'s clevis room
     is a pocket in its back face, and the cables that cross the joint on its hinge line leave through the back face
-    (:func:`swiftfin.cad.hull.bulkhead_passages`)."""
+    (:func:`swiftfin.layout.gland_plan.bulkhead_passages`)."""
     piece: str
     rear_joint: int | None
     s_front_mm: float

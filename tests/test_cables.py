@@ -211,7 +211,7 @@ def test_a_tube_ends_a_shoulder_short_of_its_bore_and_the_exit_hole_clears_the_c
     shoulder = L.tube_seat_shoulder_mm(P)
     assert shoulder == pytest.approx(L.MIN_WEB_LINES * P.print.line_width_mm)
     assert L.cable_exit_hole_mm(P) - P.cable.diameter_mm >= 2 * cable_clearance_mm(P)
-    from swiftfin.cad.hull import in_clevis_cut
+    from swiftfin.layout.gland_plan import in_clevis_room as in_clevis_cut
     from swiftfin.layout.joints import all_joint_hardware
     hw = {h.joint: h for h in all_joint_hardware(P)}
     dry = dry_bulkhead(P)

@@ -299,7 +299,7 @@ def test_bom_file_loads_equal_to_the_same_without(tmp_path):
 def test_load_design_source_reads_the_file_once(tmp_path, monkeypatch):
     """The params come from exactly the bytes returned (the caller hashes those), read with one open()."""
     f = tmp_path / "d.toml"
-    data = b"[body]\nlength_mm = 600.0\n"
+    data = b"[body]\nlength_mm = 560.0\n"      # the default, longer (at 600 mm its dry wall meets the bay guide)
     f.write_bytes(data)
     opened = []
     real_open = os.open
@@ -312,7 +312,7 @@ def test_load_design_source_reads_the_file_once(tmp_path, monkeypatch):
     params, raw = load_design_source(f)
     monkeypatch.undo()
     assert raw == data and opened == [str(f)]
-    assert params.body.length_mm == 600.0 and params == load_design(f)
+    assert params.body.length_mm == 560.0 and params == load_design(f)
     default, default_raw = load_design_source(DEFAULT_DESIGN)
     assert default_raw == DEFAULT_DESIGN.read_bytes() and default == load_design(DEFAULT_DESIGN)
 

@@ -166,7 +166,7 @@ def test_python_dash_m_runs_the_command(tmp_path):
 
 def test_a_design_in_the_working_folder_is_the_default(tmp_path):
     """./swiftfin.toml wins over the shipped design; without one, the shipped design is used."""
-    (tmp_path / "swiftfin.toml").write_text("[body]\nlength_mm = 600\n")
+    (tmp_path / "swiftfin.toml").write_text("[body]\nlength_mm = 560\n")
     r = subprocess.run([sys.executable, "-m", "swiftfin", "params"], cwd=tmp_path, capture_output=True, text=True,
                        timeout=300)
     assert r.returncode == 0 and r.stdout.startswith("swiftfin.toml: valid"), r.stdout + r.stderr
