@@ -279,8 +279,8 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
                 label = f"tube_{b.label}_{joint}_{SIDE_NAME[side]}{_suffix(n, len(runs))}"
                 out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, pts)),
                                    g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
-    from swiftfin.layout.gland_plan import bulkhead_passages
-    from swiftfin.cad.hull import hull_pieces   # the hull cuts its holes from the same
+    from swiftfin.layout.gland_plan import bulkhead_passages   # the hull cuts its holes from the same records
+    from swiftfin.layout.hull_plan import hull_pieces
     for pc in hull_pieces(p):
         found: dict[tuple, list] = {}
         for route, q0, _, seat in bulkhead_passages(p, pc):

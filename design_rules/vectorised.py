@@ -1398,9 +1398,9 @@ def gland_length_needed_mm(p: Params) -> float:
     (:func:`swiftfin.layout.gland_plan.cable_glands`), a millimetre at a time, as far as the bay guide leaves the
     wall room. A design whose glands cannot be measured keeps the first length (the loader says why)."""
     from swiftfin.core.errors import BuildError, UserError
-    from swiftfin.core.params import replace_key
     from swiftfin.layout.geometry import joint_stop_angles_rad
     from swiftfin.layout.gland_plan import cable_glands, wall_room_mm
+    from swiftfin.layout.hull_plan import dry_wall_thickness_mm
     g = cable_gland()
     stroke = p.joints.tendon_moment_arm_mm * max(joint_stop_angles_rad(p))
     env = p.environment
@@ -1409,10 +1409,10 @@ def gland_length_needed_mm(p: Params) -> float:
     first = float(min(60.0, max(2.0, math.ceil(stroke + plug))))
     length = first
     try:
-        most = min(60.0, first + wall_room_mm(replace_key(p, "hull.cable_gland_length_mm", first)))
+        # the room the bay guide leaves the wall shrinks by what the wall grows
+        most = min(60.0, first + wall_room_mm(p) + dry_wall_thickness_mm(p) - dry_wall_thickness_mm(p, first))
         for _ in range(6):
-            q = replace_key(p, "hull.cable_gland_length_mm", length)
-            short = max(((gl.stroke_mm + plug - gl.packed_mm) * abs(gl.axis[0]) for gl in cable_glands(q)),
+            short = max(((gl.stroke_mm + plug - gl.packed_mm) * abs(gl.axis[0]) for gl in cable_glands(p, length)),
                         default=0.0)
             if short <= 0.0:
                 return length

@@ -20,7 +20,7 @@ import numpy as np
 from swiftfin.core.errors import UserError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L
-from swiftfin.layout.hull_plan import HullPiece, dry_bulkhead, dry_wall_span_mm
+from swiftfin.layout.hull_plan import HullPiece, dry_bulkhead, dry_wall_span_mm, dry_wall_thickness_mm
 from swiftfin.layout.joints import all_joint_hardware
 
 ROOM_BISECTIONS = 30
@@ -132,14 +132,18 @@ class Gland:
         return d / np.linalg.norm(d)
 
 
-def cable_glands(p: Params) -> tuple[Gland, ...]:
+def cable_glands(p: Params, gland_length_mm: float | None = None) -> tuple[Gland, ...]:
     """The cable glands through the dry compartment's rear wall, one per cable that crosses it; none where nothing
     is sealed or the whole hull is (the fin socket's plug closes it). From the hull's segments alone (the wall's
-    stations do not depend on how the pieces are cut for the bed)."""
+    stations do not depend on how the pieces are cut for the bed). ``gland_length_mm``: the glands the wall would
+    have with that ``hull.cable_gland_length_mm`` (only the wall's front face moves), from the same params, so the
+    routes' and joints' memos serve those who try several lengths."""
     span = dry_wall_span_mm(p)
     if span is None or span[2] is None:
         return ()
     sf, sb, rear = span
+    if gland_length_mm is not None:
+        sf = sb - dry_wall_thickness_mm(p, gland_length_mm)
     stops = L.joint_stop_angles_rad(p)
     h = next(h for h in all_joint_hardware(p) if h.joint == rear)
     out = []
@@ -153,9 +157,9 @@ def cable_glands(p: Params) -> tuple[Gland, ...]:
     return tuple(out)
 
 
-def wetted_glands(p: Params) -> list[Gland]:
+def wetted(glands) -> list[Gland]:
     """The glands whose packing their cable's stroke wets through: no longer than the stroke."""
-    return [g for g in cable_glands(p) if g.packed_mm <= g.stroke_mm]
+    return [g for g in glands if g.packed_mm <= g.stroke_mm]
 
 
 def wall_room_mm(p: Params) -> float:
@@ -184,7 +188,6 @@ def gland_plan(p: Params) -> tuple[Gland, ...]:
     """
     from dataclasses import fields
 
-    from swiftfin.core.params import replace_key
     from swiftfin.core.schema import Hull
     key = "hull.cable_gland_length_mm"
     have = p.hull.cable_gland_length_mm
@@ -197,9 +200,10 @@ def gland_plan(p: Params) -> tuple[Gland, ...]:
                         f"and their seat's shoulder) reaches {-room:.2f} mm too far forward: its front face at station "
                         f"{span[0]:.1f} mm must keep {p.print.clearance_assembly_mm:g} mm "
                         f"(print.clearance_assembly_mm) from the bay guide's aft end: at most {most:g} mm")
-    bad = wetted_glands(p)
+    glands = cable_glands(p)
+    bad = wetted(glands)
     if not bad:
-        return cable_glands(p)
+        return glands
     worst = max(bad, key=lambda g: g.stroke_mm - g.packed_mm)
     length, fix = have, None
     for _ in range(6):      # the packed length grows by about 1 / |u_x| per mm of wall: a step or two
@@ -207,7 +211,7 @@ def gland_plan(p: Params) -> tuple[Gland, ...]:
         length = math.ceil((length + short + 0.05) * 2.0) / 2.0
         if length > most:
             break
-        bad = wetted_glands(replace_key(p, key, length))
+        bad = wetted(cable_glands(p, length))
         if not bad:
             fix = f"at least {length:g} mm"
             break

@@ -286,10 +286,11 @@ def dry_bulkhead(p: Params) -> DryBulkhead | None:
     return DryBulkhead(last.name, last.rear_joint, last.s_end_mm - dry_wall_thickness_mm(p), last.s_end_mm)
 
 
-def dry_wall_thickness_mm(p: Params) -> float:
-    """Thickness of the dry compartment's rear wall: the cable glands' length and their seat's shoulder, never
-    thinner than ``hull.bulkhead_thickness_mm``."""
-    return max(p.hull.bulkhead_thickness_mm, p.hull.cable_gland_length_mm + L.tube_seat_shoulder_mm(p))
+def dry_wall_thickness_mm(p: Params, gland_length_mm: float | None = None) -> float:
+    """Thickness of the dry compartment's rear wall: the cable glands' length (``hull.cable_gland_length_mm``, or
+    ``gland_length_mm``) and their seat's shoulder, never thinner than ``hull.bulkhead_thickness_mm``."""
+    gland = p.hull.cable_gland_length_mm if gland_length_mm is None else gland_length_mm
+    return max(p.hull.bulkhead_thickness_mm, gland + L.tube_seat_shoulder_mm(p))
 
 
 def dry_wall_span_mm(p: Params) -> tuple[float, float, int | None] | None:
