@@ -24,7 +24,7 @@ from swiftfin.layout.loads import (DriveLoads, JointLoads, LinkMass, drive_loads
                                    with_hinge_losses)
 from swiftfin.physics.strouhal import strouhal
 from swiftfin.core.calibration import Calibration
-from swiftfin.core.errors import UserError
+from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.params import Problem
 from swiftfin.core.schema import Params
 
@@ -614,22 +614,34 @@ def gland_rating_m(p: Params, packed_length_mm: float, stroke_mm: float) -> floa
 
 
 def cable_gland(ctx: RuleContext) -> Finding:
+    """``seal.cable_gland``: the least depth the cable glands through the dry wall hold (:func:`gland_rating_m`), each
+    its own packed length (:func:`swiftfin.layout.gland_plan.cable_glands`: the wall's thickness along its cable's
+    route, less where joint ``hull.flooded_from_joint``'s clevis room in the wall's back face cuts it short) less its
+    own joint's stroke."""
     from swiftfin.catalogues.seals import cable_gland as gland_row
-    from swiftfin.layout.geometry import joint_stop_angles_rad
+    from swiftfin.layout.gland_plan import cable_glands
     p = ctx.p
     g = gland_row()
-    stops = joint_stop_angles_rad(p)
-    j = int(np.argmax(stops))
-    stroke = p.joints.tendon_moment_arm_mm * stops[j]
-    rated = gland_rating_m(p, p.hull.cable_gland_length_mm, stroke)
-    return at_least("seal.cable_gland", rated, p.environment.design_depth_m,
-                    "a cable gland through the dry wall (catalogues/seals.toml): the packing its cable's stroke "
-                    "never wets holds 2 tau_y L / h (physics/sealing.py) with the safety factor, down to this depth; "
-                    "against environment.design_depth_m", unit="m",
-                    detail=f"packed {p.hull.cable_gland_length_mm:g} mm less joint {j + 1}'s stroke {stroke:.1f} mm "
-                           f"(moment arm x stop angle); tau_y {g.grease_yield_stress_pa:g} Pa (an assumed low-end "
-                           f"grease), gap {g.radial_gap_mm:g} mm, safety factor {g.pressure_safety_factor:g}. The "
-                           f"build checks each gland's own length through the wall")
+    what = ("each cable gland through the dry wall (catalogues/seals.toml): the packing its cable's stroke never "
+            "wets holds 2 tau_y L / h (physics/sealing.py) with the safety factor, down to this depth (the least of "
+            "them); against environment.design_depth_m")
+    try:
+        glands = cable_glands(p)
+    except (UserError, BuildError) as exc:      # a design the loader refuses (joint_hardware's problems)
+        return not_evaluated("seal.cable_gland", "layout/gland_plan.py",
+                             f"the joints' hardware cannot be laid out, so neither can the glands: {exc}", unit="m")
+    if not glands:
+        return not_evaluated("seal.cable_gland", "layout/gland_plan.py",
+                             "no cable crosses a dry wall (the whole hull is sealed, or none of it)", unit="m")
+    rates = [gland_rating_m(p, gl.packed_mm, gl.stroke_mm) for gl in glands]
+    worst = glands[int(np.argmin(rates))]
+    return at_least("seal.cable_gland", min(rates), p.environment.design_depth_m, what, unit="m",
+                    detail=f"{worst.label}: {worst.packed_mm:.1f} mm packed (hull.cable_gland_length_mm "
+                           f"{p.hull.cable_gland_length_mm:g} mm) less joint {worst.joint}'s stroke "
+                           f"{worst.stroke_mm:.1f} mm (moment arm x stop angle); tau_y {g.grease_yield_stress_pa:g} "
+                           f"Pa (an assumed low-end grease), gap {g.radial_gap_mm:g} mm, safety factor "
+                           f"{g.pressure_safety_factor:g}; "
+                           + ", ".join(f"{gl.label} {r:.2f} m" for gl, r in zip(glands, rates)))
 
 
 def seam_gasket(ctx: RuleContext) -> Finding:
@@ -657,27 +669,11 @@ def seam_gasket(ctx: RuleContext) -> Finding:
                            f"{pressure_kpa:.2f} kPa x {g.pressure_safety_factor:g}. The build measures the gasket")
 
 
-def built_gland_finding(p: Params, glands) -> Finding:
-    """``seal.cable_glands_built``: the least rated depth over the built cable glands (each its own packed length
-    through the rear wall and its own joint's stroke; ``cad.dry_check.cable_glands``). A build-time finding, like
-    the float rules: ``swiftfin check`` has the design's packed length only (``seal.cable_gland``)."""
-    if not glands:
-        return not_evaluated("seal.cable_glands_built", "cad/dry_check.py", "no cable crosses a dry wall")
-    worst = min(glands, key=lambda g: gland_rating_m(p, g.packed_mm, g.stroke_mm))
-    return at_least("seal.cable_glands_built", gland_rating_m(p, worst.packed_mm, worst.stroke_mm),
-                    p.environment.design_depth_m,
-                    "each built cable gland: its own packed length through the dry wall less its joint's stroke "
-                    "holds the water down to this depth (the least of them)", unit="m",
-                    detail=f"{worst.label}: {worst.packed_mm:.1f} mm packed, stroke {worst.stroke_mm:.1f} mm; "
-                           + ", ".join(f"{g.label} {gland_rating_m(p, g.packed_mm, g.stroke_mm):.2f} m"
-                                       for g in glands))
-
-
 def built_seam_gasket_findings(p: Params, g) -> list[Finding]:
     """``seal.seam_gasket_*``: the built seam gasket (``cad.seal.gasket_numbers``, measured on its solid): its
     compression at the gap's extremes in the sheet's band, its contact stress at the least compression over the
     water's pressure at the design depth times the safety factor, its sealing ring's narrowest strip and the least
-    web of sponge a hole leaves. Build-time findings, like ``seal.cable_glands_built``."""
+    web of sponge a hole leaves. Build-time findings."""
     src = "catalogues/seals.toml [seam_gasket], measured on the built gasket (cad/seal.py)"
     lo, hi = g.compression_range
     span = (f"gap {g.gap_mm:.3f} mm (the limiters' length) +/- the limiter's and both printed faces' tolerances: "

@@ -63,7 +63,9 @@ from swiftfin.design_rules.rules import (MIN_GUIDE_BEND_RAD, MOTOR_CASE_AREA_FAC
                                          RuleContext, dry_wall_area_m2, fits_bed, run_rules)
 from swiftfin.layout import loads as _loads
 from swiftfin.layout.geometry import (BAY_AFTER_DROP_RADII, BAY_ARC_ALLOWANCE_LINES, BAY_TO_JOINT_MM, LANE_DROP_PITCHES,
-                                      MIN_WEB_LINES, MOTOR_PITCH_GAP_MM, RISE_MAX_PITCHES, crossing_rise_mm)
+                                      MIN_TUBE_MM, MIN_WEB_LINES, MOTOR_PITCH_GAP_MM, RISE_MAX_PITCHES,
+                                      crossing_rise_mm)
+from swiftfin.layout.gland_plan import passage_bore
 from swiftfin.layout.hull_plan import SPLICE_LENGTH_MM
 from swiftfin.layout.mount_plan import FIXING_SPREAD_FRACTION
 from swiftfin.physics import kinematics as _kin
@@ -696,6 +698,8 @@ class _Group:
         zeros = np.zeros(N)
         self.guide_turn = np.zeros(N)      # layout.geometry.max_guide_turn_rad: exit, or drop + bay, in one guide
         lift = self._joint1_lift(pitch_t)  # layout.geometry.joint1_lift_mm
+        self.lift, self.pitch_t = lift, pitch_t
+        self.route_pts = {}                # (joint, side) -> (K, 3, N): the route's points, for the glands
         for j in range(n):
             x_m = -self.motor_s[j]
             for si, side in enumerate((1, -1)):
@@ -721,6 +725,7 @@ class _Group:
                 tx, ty = self._tangent(last[0], last[1], -self.js[j], 0.0, m, side)
                 pts.append((tx, ty, z_t))
                 P = np.array([np.broadcast_arrays(*q, zeros) for q in pts])[:, :3]       # (K, 3, N)
+                self.route_pts[j, side] = P
                 seg = np.diff(P, axis=0)
                 norm = np.sqrt((seg**2).sum(axis=1))                                     # (K-1, N)
                 cosang = (seg[:-1] * seg[1:]).sum(axis=1) / (norm[:-1] * norm[1:])
@@ -967,17 +972,69 @@ class _Group:
         per_mm = shear * math.pi * (c("guides.ptfe_tube_od_mm") + c("print.clearance_sliding_mm"))
         return np.maximum(MIN_WEB_LINES, np.ceil(drag / per_mm / lw - 1e-9)) * lw
 
-    # ---------------------------------------------------------------- heat (design_rules.rules._heat)
-    def heat(self):
-        c, n, N = self.col, self.n, self.N
+    def dry_wall(self):
+        """``layout.hull_plan.dry_wall_span_mm`` (after :meth:`routes`): which designs have a dry wall with a joint
+        behind it (``hull.flooded_from_joint`` within the joints), and its front and back faces' stations (N,): the
+        last sealed segment's end, less the wall, as thick as the cable glands and their seat's shoulder need and
+        never thinner than a bulkhead."""
+        c, n = self.col, self.n
         k = c("hull.flooded_from_joint")
         inside = k <= n
         kk = np.clip(k - 1, 0, n - 1)
-        # dry_wall_m2: the cavity ends at the rear wall's front face (layout.hull_plan.dry_bulkhead: the last sealed
-        # segment's end less the wall, as thick as the cable glands need and never thinner than a bulkhead)
-        rear_m = np.where(inside, np.maximum(c("hull.bulkhead_thickness_mm"), c("hull.cable_gland_length_mm")
-                                             + self.shoulder_mm()), 0.0)
-        s_end = np.where(inside, np.take_along_axis(self.seg_end, kk[None], axis=0)[0] - rear_m, self.hend)
+        s_back = np.take_along_axis(self.seg_end, kk[None], axis=0)[0]
+        thick = np.maximum(c("hull.bulkhead_thickness_mm"), c("hull.cable_gland_length_mm") + self.shoulder_mm())
+        return inside, s_back - thick, s_back
+
+    def gland_ratings(self):
+        """``design_rules.rules.cable_gland`` over ``layout.gland_plan.cable_glands`` (after :meth:`routes`): the
+        least rated depth [m] over the glands through the dry wall, each its own packed length (the route's segment
+        across the wall's mid-plane, through ``layout.gland_plan.passage_bore``, cut short by joint k's clevis room,
+        k = ``hull.flooded_from_joint``) less its joint's stroke; and which designs have a gland (N,)."""
+        c, n, N = self.col, self.n, self.N
+        inside, s_front, s_back = self.dry_wall()
+        k = c("hull.flooded_from_joint")
+        kk = np.clip(k - 1, 0, n - 1)
+        cs, ca, lw = c("print.clearance_sliding_mm"), c("print.clearance_assembly_mm"), c("print.line_width_mm")
+        od, dc, P = c("guides.ptfe_tube_od_mm"), c("cable.diameter_mm"), self.pitch_t
+        m = c("joints.tendon_moment_arm_mm")
+        # joint k's hardware (layout.joints._joint_hardware): its own levels, the sector's and the knuckle's heights
+        own_hi = (n - k) * 2 * P + P / 2 + np.where(k == 1, self.lift, 0.0)
+        behind = k < n                                      # cables of the joints behind cross its hinge line
+        z_sec_lo = own_hi - P - np.where(behind, od / 2, P / 2)
+        z_sec_hi = own_hi + P / 2
+        z_win_lo = np.where(behind, -P / 2 - (od / 2 + cs) - MIN_WEB_LINES * lw, z_sec_lo)
+        z_k0 = z_win_lo - c("joints.link_thickness_mm")
+        r_knuckle = c("joints.pin_diameter_mm") / 2 + cs + np.maximum(2.0, 4 * lw)
+        r_sector = m - dc / 2 + 1.3 * (dc / 2 + cs / 2)    # layout.geometry.sector_radius_mm
+        cuts = ((r_sector + ca, z_sec_lo - cs, z_sec_hi + cs), (r_knuckle + ca, z_k0 - cs, z_sec_lo))
+        x_axis = -np.take_along_axis(self.js, kk[None], axis=0)[0]
+        xf, xb = -s_front, -s_back
+        xm = (xf + xb) / 2
+        shoulder = self.shoulder_mm()
+        g = cable_gland()
+        per_mm = 2.0 * g.grease_yield_stress_pa / g.radial_gap_mm / (
+            g.pressure_safety_factor * c("environment.water_density_kg_m3") * c("environment.gravity_m_s2"))
+        least = np.full(N, np.inf)
+        for (j, _), pts in self.route_pts.items():
+            stroke = m * self.stop[j]
+            for a, b in zip(pts[:-1], pts[1:]):
+                cross = inside & ((a[0] - xm) * (b[0] - xm) < 0)
+                if not cross.any():
+                    continue
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    run = passage_bore(a, b, xf, xb, od / 2, shoulder, cuts, x_axis, od / 2 + cs)[3]
+                packed = np.where(run >= MIN_TUBE_MM, run, 0.0)
+                rated = per_mm * np.maximum(packed - stroke, 0.0)
+                least = np.where(cross, np.minimum(least, rated), least)
+        return least, np.isfinite(least)
+
+    # ---------------------------------------------------------------- heat (design_rules.rules._heat)
+    def heat(self):
+        c, n, N = self.col, self.n, self.N
+        inside, s_front, s_back = self.dry_wall()
+        # dry_wall_m2: the cavity ends at the rear wall's front face
+        rear_m = np.where(inside, s_back - s_front, 0.0)
+        s_end = np.where(inside, s_front, self.hend)
         rear_m = rear_m * 1e-3
         # the perimeter of the section (a, H a) is pi (1 + H) a R(H) (Ramanujan II with its
         # h = ((1 - H)/(1 + H))^2 the same at every station), the slant sqrt(1 + (d(0.5 (a + b))/ds)^2) by central
@@ -1204,13 +1261,9 @@ def _evaluate_group(cols: dict, n: int, mass: MassPropertyArrays | None, work: d
     out.power_w = np.asarray(draw, float)
     minutes = c("power.battery_energy_wh") * 3600.0 * c("power.battery_usable_fraction") / draw / 60.0
     out.at_least("power.run_time", minutes, c("power.run_time_required_min"))
-    gland = cable_gland()
-    stroke = (g.stop * c("joints.tendon_moment_arm_mm")).max(axis=0)
-    dry_len = np.maximum(c("hull.cable_gland_length_mm") - stroke, 0.0)
-    hold = 2.0 * gland.grease_yield_stress_pa * dry_len / gland.radial_gap_mm
-    rated = hold / (gland.pressure_safety_factor * c("environment.water_density_kg_m3")
-                    * c("environment.gravity_m_s2"))
+    rated, has_gland = g.gland_ratings()
     out.at_least("seal.cable_gland", rated, c("environment.design_depth_m"))
+    out.not_evaluated("seal.cable_gland", ~has_gland)
     sheet = seam_gasket()
     least = sheet.compression_range(sheet.limiter_length_mm(), seam_gap_tolerance_mm())[0]
     pressure_kpa = c("environment.water_density_kg_m3") * c("environment.gravity_m_s2") * c(

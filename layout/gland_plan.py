@@ -23,24 +23,79 @@ from swiftfin.layout import geometry as L
 from swiftfin.layout.hull_plan import HullPiece, dry_bulkhead, dry_wall_span_mm, dry_wall_thickness_mm
 from swiftfin.layout.joints import all_joint_hardware
 
-ROOM_BISECTIONS = 30
-"""Halvings of a passage that find where its bore meets the clevis room (the passage is at most a few tens of mm:
-far below a micrometre)."""
+def room_cylinders(p: Params, h) -> tuple[tuple[float, float, float], ...]:
+    """The room the parent's rear bulkhead leaves for joint ``h``'s link (the sector and knuckle cylinders of
+    :func:`swiftfin.cad.clevis.clevis_cut`, round the joint's vertical axis): ``(radius, z_lo, z_hi)`` of each, mm."""
+    ca, cs = p.print.clearance_assembly_mm, p.print.clearance_sliding_mm
+    return ((h.sector_radius_mm + ca, h.z_sector_lo_mm - cs, h.z_sector_hi_mm + cs),
+            (h.knuckle_radius_mm + ca, h.z_knuckle_lo_mm - cs, h.z_sector_lo_mm))
 
 
 def in_clevis_room(p: Params, h, pts: np.ndarray, hole_r: float) -> bool:
     """Whether a hole of radius ``hole_r`` round the segment ``pts`` (two points) reaches into the room the parent's
-    rear bulkhead leaves for joint ``h``'s link (the sector and knuckle cylinders of
-    :func:`swiftfin.cad.clevis.clevis_cut`), sampled at 11 points."""
-    ca, cs = p.print.clearance_assembly_mm, p.print.clearance_sliding_mm
-    cuts = ((h.sector_radius_mm + ca, h.z_sector_lo_mm - cs, h.z_sector_hi_mm + cs),
-            (h.knuckle_radius_mm + ca, h.z_knuckle_lo_mm - cs, h.z_sector_lo_mm))
+    rear bulkhead leaves for joint ``h``'s link (:func:`room_cylinders`), sampled at 11 points."""
     q = pts[0] + np.linspace(0, 1, 11)[:, None] * (pts[1] - pts[0])
     rho = np.hypot(q[:, 0] - h.x_mm, q[:, 1])
-    for R, z0, z1 in cuts:
+    for R, z0, z1 in room_cylinders(p, h):
         if np.any((rho < R + hole_r) & (q[:, 2] > z0 - hole_r) & (q[:, 2] < z1 + hole_r)):
             return True
     return False
+
+
+def room_entry(cuts, x_axis, a, b, hole_r):
+    """Where, as a fraction of the way from ``a`` to ``b``, a hole of radius ``hole_r`` round the segment first
+    reaches into the room ``cuts`` (:func:`room_cylinders`, round the vertical axis at ``(x_axis, 0)``): a point of
+    the segment within a cylinder's radius plus ``hole_r`` of the axis and within ``hole_r`` of its height range;
+    NaN where it never does. Closed form: the segment's interval inside each cylinder in plan (a quadratic) met with
+    its interval inside the height range (linear). Arrays: ``a``, ``b`` (3, ...), the rest broadcast with ``...``
+    (the vectorised rules evaluate it on columns of designs)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    d = b - a
+    ox, oy = a[0] - x_axis, a[1]
+    qa = d[0] ** 2 + d[1] ** 2
+    flat = qa < 1e-18
+    best = np.full(np.broadcast(ox, d[2], hole_r).shape, np.inf)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for R, z0, z1 in cuts:
+            c = ox * ox + oy * oy - (R + hole_r) ** 2
+            qb = 2.0 * (ox * d[0] + oy * d[1])
+            disc = qb * qb - 4.0 * qa * c
+            sq = np.sqrt(np.maximum(disc, 0.0))
+            t1 = np.where(flat, np.where(c < 0.0, -np.inf, 0.0), (-qb - sq) / (2.0 * qa))
+            t2 = np.where(flat, np.where(c < 0.0, np.inf, 0.0), (-qb + sq) / (2.0 * qa))
+            lo_z, hi_z = z0 - hole_r - a[2], z1 + hole_r - a[2]
+            flat_z = np.abs(d[2]) < 1e-12
+            between = (lo_z < 0.0) & (hi_z > 0.0)
+            ta = np.where(flat_z, np.where(between, -np.inf, 0.0), np.minimum(lo_z / d[2], hi_z / d[2]))
+            tb = np.where(flat_z, np.where(between, np.inf, 0.0), np.maximum(lo_z / d[2], hi_z / d[2]))
+            lo = np.maximum(np.maximum(t1, ta), 0.0)
+            hi = np.minimum(np.minimum(t2, tb), 1.0)
+            hit = (lo < hi) & (flat | (disc > 0.0))
+            best = np.where(hit, np.minimum(best, lo), best)
+    return np.where(np.isfinite(best), best, np.nan)
+
+
+def passage_bore(a, b, x_front, x_back, tube_r, shoulder, cuts=None, x_axis=None, hole_r=0.0):
+    """The bore of the route's segment ``a``-``b`` through the bulkhead between the planes ``x = x_front`` and
+    ``x = x_back`` (body frame, mm; the segment crosses its mid-plane): ``(front, back, u, run)``: where the bore's
+    axis meets the front and back faces, its unit direction, and the run from the tube's mouth to its seat. The
+    mouth sits back in the bore until the rim of the tube's square-cut end (radius ``tube_r``) is inside the front
+    face, and ``front`` is the mouth; the tube ends ``shoulder`` short of the back face, or of where its bore
+    (radius ``hole_r``) would break into the room ``cuts`` round ``x_axis`` (:func:`room_entry`). Arrays as in
+    :func:`room_entry`: the loader's plans and the vectorised rules use this one formula."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    d = b - a
+    front = a + (x_front - a[0]) / d[0] * d
+    back = a + (x_back - a[0]) / d[0] * d
+    span = back - front
+    u = span / np.sqrt((span ** 2).sum(axis=0))
+    front = front + tube_r * np.sqrt(np.maximum(0.0, 1.0 - u[0] ** 2)) / np.abs(u[0]) * u
+    reach = (back - front) * u
+    reach = reach.sum(axis=0)
+    if cuts is not None:
+        t = room_entry(cuts, x_axis, front, back, hole_r)
+        reach = np.where(np.isnan(t), reach, t * reach)
+    return front, back, u, reach - shoulder
 
 
 def bulkhead_spans_mm(p: Params, pc: HullPiece) -> list[tuple[float, float]]:
@@ -66,31 +121,16 @@ def _passages(p: Params, sf: float, sb: float, rear) -> list[tuple]:
     shoulder = L.tube_seat_shoulder_mm(p)
     xf, xb = -sf, -sb
     xm = (xf + xb) / 2
+    cuts = None if rear is None else room_cylinders(p, rear)
+    x_axis = None if rear is None else rear.x_mm
     out = []
     for route in L.cable_routes(p):
         pts = np.asarray(route.points_mm, float)
         for a, b in zip(pts[:-1], pts[1:]):
             if (a[0] - xm) * (b[0] - xm) >= 0:
                 continue
-            d = b - a
-            front, back = a + (xf - a[0]) / d[0] * d, a + (xb - a[0]) / d[0] * d
-            u = (back - front) / np.linalg.norm(back - front)
-            # the tube's mouth sits back in its bore until the rim of its square-cut end is inside the face
-            front = front + tube_r * math.sqrt(max(0.0, 1.0 - u[0] ** 2)) / abs(u[0]) * u
-            end = back
-            if rear is not None and in_clevis_room(p, rear, np.array([front, back]), r_bore):
-                # the bore would break into the clevis room: the tube stops a shoulder short of where it would
-                lo, hi = 0.0, 1.0
-                for _ in range(ROOM_BISECTIONS):
-                    mid = 0.5 * (lo + hi)
-                    if in_clevis_room(p, rear, np.array([front, front + mid * (back - front)]), r_bore):
-                        hi = mid
-                    else:
-                        lo = mid
-                end = front + lo * (back - front)
-            seat = end - shoulder * u
-            if float((seat - front) @ u) < L.MIN_TUBE_MM:
-                seat = None
+            front, back, u, run = passage_bore(a, b, xf, xb, tube_r, shoulder, cuts, x_axis, r_bore)
+            seat = front + float(run) * u if run >= L.MIN_TUBE_MM else None
             out.append((route, front, back, seat))
     return out
 

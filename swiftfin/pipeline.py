@@ -848,22 +848,17 @@ def print_record(part, p: Params):
     return PrintRecord(label, rot, float(exp.support_area_mm2), walls, spans, checked, bores)
 
 
-def report_findings(params: Params, parts, mass_properties: dict | None, calibration=None,
-                    dry_report=None) -> tuple[list, list]:
+def report_findings(params: Params, parts, mass_properties: dict | None, calibration=None) -> tuple[list, list]:
     """What the report shows and does not compute: the design rules' findings (with the build's mass properties
-    and the printed parts' boxes when there are any, and the built cable glands' ratings when the build checked
-    its dry wall) and the paper audit's entries."""
+    and the printed parts' boxes when there are any) and the paper audit's entries."""
     from swiftfin.design_rules import design_findings
     from swiftfin.design_rules.paper_audit import audit_entries
-    from swiftfin.design_rules.rules import built_gland_finding
     from swiftfin.report.html import as_report_part
 
     rparts = [as_report_part(x) for x in parts] if parts else []
     boxes = {x.label: x.print_size_mm for x in rparts if x.printed and x.print_size_mm}
     records = {r.label: r for r in (print_record(x, params) for x in rparts) if r is not None}
     findings = design_findings(params, mass_properties, boxes, calibration, records)
-    if dry_report is not None:
-        findings = [*findings, built_gland_finding(params, dry_report.glands)]
     gaskets = [x.spec for x in parts or () if hasattr(x, "spec") and x.spec.family == "seal"]
     if gaskets:
         from swiftfin.exports.gasket import gasket_numbers
@@ -890,8 +885,7 @@ def report_for_build(result, out_dir, params_name: str = "swiftfin.toml",
             mp, note = json.loads(mpath.read_text()), f"From {MASS_PROPERTIES_NAME} in this build."
         except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
             note = f"{MASS_PROPERTIES_NAME} in this build is not readable JSON ({exc})."
-    findings, audit = report_findings(result.params, result.parts, mp, result.calibration,
-                                      getattr(result, "dry_report", None))
+    findings, audit = report_findings(result.params, result.parts, mp, result.calibration)
     rules_note = ""
     if result.calibration is not None:
         rules_note = (f"Evaluated with the measured values of {CALIBRATION_NAME} (a copy of "

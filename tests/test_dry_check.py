@@ -315,3 +315,85 @@ def test_the_dry_walls_room_to_the_bay_guide_is_what_the_meshes_measure(default_
     want = wall_room_mm(p) + p.print.clearance_assembly_mm
     assert 0.5 < want < 1.0
     assert gap == pytest.approx(want, abs=2 * p.export.mesh_tolerance_mm), (gap, want)
+
+
+def _gland_ratings_by_bisection(p):
+    """Each cable gland's rated depth [m], computed apart from ``layout.gland_plan``'s closed form: the route's segment
+    across the dry wall's mid-plane, its mouth set back until the tube's rim is inside the front face, its bore walked
+    back in 40 halvings of the sampled room test (``in_clevis_room``) to where it would break into joint k's room,
+    less the seat's shoulder; then ``2 tau_y (packed - stroke) / h`` over the safety factor x rho g."""
+    import math
+
+    import numpy as np
+
+    from swiftfin.catalogues.seals import cable_gland
+    from swiftfin.layout import geometry as L
+    from swiftfin.layout.gland_plan import in_clevis_room
+    from swiftfin.layout.hull_plan import dry_wall_span_mm
+    from swiftfin.layout.joints import joint_hardware
+
+    sf, sb, rear = dry_wall_span_mm(p)
+    h = joint_hardware(p, rear)
+    xf, xb = -sf, -sb
+    r_bore, tube_r = L.tube_bore_diameter_mm(p, "bulkhead") / 2, p.guides.ptfe_tube_od_mm / 2
+    g, env = cable_gland(), p.environment
+    stops = L.joint_stop_angles_rad(p)
+    out = {}
+    for route in L.cable_routes(p):
+        pts = np.asarray(route.points_mm, float)
+        for a, b in zip(pts[:-1], pts[1:]):
+            if (a[0] - (xf + xb) / 2) * (b[0] - (xf + xb) / 2) >= 0:
+                continue
+            u = (b - a) / np.linalg.norm(b - a)
+            front = a + (xf - a[0]) / u[0] * u
+            back = a + (xb - a[0]) / u[0] * u
+            front = front + tube_r * math.sqrt(1 - u[0] ** 2) / abs(u[0]) * u
+            lo, hi = 0.0, float((back - front) @ u)
+            if not in_clevis_room(p, h, np.array([front, back]), r_bore):
+                lo = hi
+            else:
+                for _ in range(40):
+                    mid = (lo + hi) / 2
+                    inside = in_clevis_room(p, h, np.array([front, front + mid * u]), r_bore)
+                    lo, hi = (lo, mid) if inside else (mid, hi)
+            packed = lo - L.tube_seat_shoulder_mm(p)
+            packed = packed if packed >= L.MIN_TUBE_MM else 0.0
+            stroke = p.joints.tendon_moment_arm_mm * stops[route.joint]
+            hold = 2 * g.grease_yield_stress_pa * max(packed - stroke, 0.0) / g.radial_gap_mm
+            side = "left" if route.side > 0 else "right"
+            out[f"gland_{route.joint + 1}_{side}"] = hold / (g.pressure_safety_factor * env.water_density_kg_m3
+                                                            * env.gravity_m_s2)
+    return out
+
+
+@pytest.mark.parametrize("name, verdict", [(None, "PASS"), ("seeded_bay_crossing.toml", "PASS"),
+                                           ("seeded_gland_short.toml", "FAIL")])
+def test_check_rates_every_gland_by_its_own_packed_length(name, verdict):
+    """``seal.cable_gland`` in ``swiftfin check`` is the least depth over the glands through the dry wall, each its own
+    packed length less its own joint's stroke (computed here apart, by bisection on the sampled room test). On
+    tests/data/seeded_gland_short.toml joint 1's glands are cut to 6.7 mm by its sector's room for a 4.8 mm stroke:
+    0.39 m against the 0.5 m design depth, FAIL; the declared 15 mm less the longest stroke, which the rule rated
+    until 2026-11-30, would read 1.6 m and pass. The vectorised twin gives the same value."""
+    from pathlib import Path
+
+    from swiftfin.core.schema import Params
+    from swiftfin.design_rules import RuleContext, run_rules
+    from swiftfin.design_rules.rules import gland_rating_m
+    from swiftfin.design_rules.vectorised import evaluate
+    from swiftfin.layout.design import load_design
+    from swiftfin.layout.geometry import joint_stop_angles_rad
+
+    p = Params() if name is None else load_design(Path(__file__).parent / "data" / name)
+    f = next(f for f in run_rules(RuleContext(p)) if f.rule_id == "seal.cable_gland")
+    apart = _gland_ratings_by_bisection(p)
+    assert len(apart) == 2 * p.joints.count
+    worst = min(apart, key=apart.get)
+    assert f.value == pytest.approx(apart[worst], abs=1e-6) and f.detail.startswith(worst + ":"), (f.detail, apart)
+    assert f.severity.name == verdict
+    res = evaluate([p])
+    assert res.value[0, res.index("seal.cable_gland")] == pytest.approx(f.value, rel=1e-9)
+    declared = gland_rating_m(p, p.hull.cable_gland_length_mm,
+                              p.joints.tendon_moment_arm_mm * max(joint_stop_angles_rad(p)))
+    assert f.value < declared
+    if name == "seeded_gland_short.toml":
+        assert worst.startswith("gland_1_") and f.value == pytest.approx(0.39, abs=0.01) and declared > 1.5
