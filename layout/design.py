@@ -61,6 +61,11 @@ _PLANS: tuple[tuple[str, str, str], ...] = (
 )
 
 
+_PIECE_FREE_PLANS = ("swiftfin.layout.spool_plan:spool_plan",)
+"""Plans that read none of the hull's pieces: made even where the hull cannot be cut to fit the bed (a seeded design
+with spool grooves too thin for a line was accepted because its unsplit hull fitted no bed, 2026-11-30)."""
+
+
 def plan_problems(params: Params) -> list[Problem]:
     """The fastener and flotation plans a build makes, made now: a design whose screws, pins or foam blocks cannot
     be placed (no catalogue length long enough, no room between bulkheads) is refused by the loader, naming the
@@ -71,14 +76,16 @@ def plan_problems(params: Params) -> list[Problem]:
     from swiftfin.layout.hull_plan import hull_pieces
     out: list[Problem] = []
     seen: set[str] = set()
+    plans = _PLANS
     try:
         hull_pieces(params)     # its cuts keep clear of the mounts' wall fixings, so it places them first
     except UserError:           # a hull that cannot be cut to fit the bed: the rule print.bed_fit reports it, and
-        return []               # the plans, which place fasteners in its pieces, have nothing to place them in
+        # the plans that place fasteners in its pieces have nothing to place them in; the spools' does not need them
+        plans = tuple(plan for plan in _PLANS if plan[0] in _PIECE_FREE_PLANS)
     except BuildError as exc:
         _plan_problem(params, exc, "hull.screw_diameter_mm", "the hull's pieces", seen, out)
         return out
-    for ref, key, what in _PLANS:
+    for ref, key, what in plans:
         module, func = ref.split(":")
         try:
             getattr(importlib.import_module(module), func)(params)

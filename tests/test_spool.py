@@ -397,3 +397,18 @@ def test_the_loader_refuses_spools_that_cannot_be_made_naming_the_key(raw, key, 
     assert len(mine) == 1 and all(x.key == key for x in problems), [str(x) for x in problems]
     section, name = key.split(".")
     assert mine[0].value == raw[section][name]
+
+
+def test_the_loader_refuses_bad_spools_on_a_hull_no_bed_holds():
+    """The fastener plans are skipped where the hull cannot be cut to fit the bed (they place screws in its pieces,
+    and ``print.bed_fit`` reports the bed), but the spools' plan reads no piece: a design with ridges under one line
+    width and an unsplit hull too big for a 120 mm bed was accepted, and only the build would have refused it
+    (found among the seeded designs, 2026-11-30). Refused now, under the spool's key."""
+    from swiftfin.layout.design import design_problems
+    raw = {"hull": {"split_halves": False}, "spool": {"groove_pitch_mm": 1.75},
+           "print": {"bed_x_mm": 120.0, "bed_y_mm": 120.0, "bed_z_mm": 120.0, "line_width_mm": 0.6}}
+    _, problems = design_problems(raw)
+    assert [x.key for x in problems] == ["spool.groove_pitch_mm"], [str(x) for x in problems]
+    assert "under one print.line_width_mm = 0.6" in problems[0].expected
+    del raw["spool"], raw["print"]["line_width_mm"]    # the default's spools: accepted, the bed left to its rule
+    assert design_problems(raw)[1] == []
