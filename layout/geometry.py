@@ -487,6 +487,19 @@ def bay_crossing_gap_mm(p: Params) -> float:
     return p.guides.ptfe_tube_od_mm + p.print.clearance_assembly_mm + BAY_ARC_ALLOWANCE_LINES * p.print.line_width_mm
 
 
+def _joint1_straight_run(p: Params, side: int) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """Joint 1's ``side`` cable run straight from the drop station (where it leaves its drum's lane) to its tangent
+    point on its tendon sector: (where that line crosses the bay corner's station, the tangent point), body frame."""
+    d = spool_dims(p)
+    x_bay, x_drop = -bay_end_station_mm(p), -drop_station_mm(p)
+    z_s = motor_placements(p)[0].z_cable_mm + side * d.end_offset_mm
+    z_t = tendon_level_mm(p, 0, side)
+    y0 = side * d.drum_radius_mm
+    tx, ty = _tangent_point(x_drop, y0, -joint_stations_mm(p)[0], 0.0, p.joints.tendon_moment_arm_mm, side)
+    f = (x_drop - x_bay) / (x_drop - tx)
+    return (x_bay, y0 + f * (ty - y0), z_s + f * (z_t - z_s)), (tx, ty, z_t)
+
+
 def joint1_rise_mm(p: Params, side: int) -> float:
     """How far joint 1's ``side`` cable rises at the bay corner above its straight run from the drop station to its
     tendon sector, so that it passes over the lanes of that side (:func:`crossing_rise_mm`): it leaves its drum
@@ -495,22 +508,16 @@ def joint1_rise_mm(p: Params, side: int) -> float:
     joint 1's level lies below the spools' plane and its cable came down with the lanes (1.2 to 3.1 mm apart where
     4.6 mm was needed, on 123 of 196 seeded designs, 2026-11-29)."""
     js = joint_stations_mm(p)
-    m = p.joints.tendon_moment_arm_mm
-    d = spool_dims(p)
-    x_bay, x_drop = -bay_end_station_mm(p), -drop_station_mm(p)
+    x_bay = -bay_end_station_mm(p)
     motors = motor_placements(p)
-    z_s = motors[0].z_cable_mm + side * d.end_offset_mm
-    z_t = tendon_level_mm(p, 0, side)
-    y0 = side * d.drum_radius_mm
-    tx, ty = _tangent_point(x_drop, y0, -js[0], 0.0, m, side)
-    f = (x_drop - x_bay) / (x_drop - tx)
-    a0 = (x_bay, y0 + f * (ty - y0), z_s + f * (z_t - z_s))
+    z_s = motors[0].z_cable_mm + side * spool_dims(p).end_offset_mm
+    a0, tangent = _joint1_straight_run(p, side)
     need = bay_crossing_gap_mm(p)
     rise = 0.0
     for mp in motors[1:]:
         b0 = (x_bay, side * mp.lane_y_mm, z_s - lane_drop_mm(p, mp.joint))
         b1 = (-js[0], 0.0, tendon_level_mm(p, mp.joint, side))
-        rise = max(rise, float(crossing_rise_mm(a0, (tx, ty, z_t), b0, b1, need,
+        rise = max(rise, float(crossing_rise_mm(a0, tangent, b0, b1, need,
                                                 RISE_MAX_PITCHES * tendon_level_pitch_mm(p))))
     return rise if rise > 0.01 else 0.0
 
@@ -551,9 +558,8 @@ def cable_routes(p: Params) -> tuple[CableRoute, ...]:
                 kinds.append(("bay", 0))
                 rise = joint1_rise_mm(p, side)
                 if rise > 0.0:   # over the lanes: up at the bay corner, on the same line in plan
-                    tx, ty = _tangent_point(x_drop, y_lane, -js[0], 0.0, m, side)
-                    f = (x_drop - x_bay) / (x_drop - tx)
-                    pts.append((x_bay, y_lane + f * (ty - y_lane), z_s + f * (z_t - z_s) + rise))
+                    bay, _ = _joint1_straight_run(p, side)
+                    pts.append((bay[0], bay[1], bay[2] + rise))
                     kinds.append(("drop", 0))
             else:
                 y_lane = side * mp.lane_y_mm
