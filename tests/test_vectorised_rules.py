@@ -151,6 +151,29 @@ def test_the_sample_exercises_every_branch():
     assert not res.fallback.any()
 
 
+def test_a_draw_skipped_before_its_sizing_is_one_the_loader_refuses_sized(monkeypatch):
+    """``seeded_designs`` skips the designer's sizing of a draw the loader refuses whatever the sizes
+    (``_refused_whatever_the_sizes``: a moment-arm problem of the joints' hardware, or the spools' plan). Each draw
+    it skips is sized here and given to the loader, which must refuse it: were a skipped check ever to read a sized
+    key, the sample would lose designs the loader accepts."""
+    import swiftfin.design_rules.vectorised as V
+    from swiftfin.layout.design import check_design
+    skip, skipped = V._refused_whatever_the_sizes, []
+
+    def recorded(p):
+        out = skip(p)
+        if out:
+            skipped.append(p)
+        return out
+
+    monkeypatch.setattr(V, "_refused_whatever_the_sizes", recorded)
+    seeded_designs(8, seed=31)
+    assert len(skipped) >= 20
+    for i, p in enumerate(skipped):
+        with pytest.raises(ParamError):
+            check_design(V._sized_as_a_designer_would(p), f"skipped draw {i}")
+
+
 def test_mass_properties_drive_the_float_rules():
     designs = seeded_designs(12, seed=5)
     mps = _mass_properties(len(designs), seed=9)
