@@ -455,6 +455,36 @@ def _max_abs_angle(num, den):
     return out
 
 
+def _first_clear_cut(base, lo, hi, fixings, keep):
+    """``layout.hull_plan._split_stations``' search for each cut (M, K): the first of ``base`` + D, ``base`` - D for
+    D over ``SPLIT_SEARCH_MM`` (a grid of step ``h`` from 0), in that order, strictly between ``lo`` and ``hi`` and at
+    least ``keep`` (M,) from every wall screw's station ``fixings`` (M, F); ``base`` where none is.
+
+    Without trying all of them: going one way from ``base`` (inside (lo, hi), its middle) a candidate is refused only
+    inside a screw's keep-out, so the first one taken is D = 0 or the first grid point past the far end of a keep-out
+    (e = f + keep - base going up, base - f + keep going down). Those, and a grid step either side of each (for the
+    rounding of e / h), are the only candidates tried, with the very test of the search; the least D taken wins,
+    up before down."""
+    h = float(SPLIT_SEARCH_MM[1] - SPLIT_SEARCH_MM[0])
+    last = len(SPLIT_SEARCH_MM) - 1
+    f = fixings[:, None, :]                                              # (M, 1, F)
+    kp = keep[:, None, None]
+    b = base[..., None]
+    steps = {}
+    for sign in (1.0, -1.0):
+        e = (f + kp - b) / h if sign > 0 else (b - f + kp) / h        # (M, K, F): the keep-outs' far ends, in steps
+        k = np.ceil(e)
+        k = np.concatenate([np.zeros_like(b), k - 1, k, k + 1], axis=-1)   # (M, K, 3F + 1)
+        k = np.where((k >= 0) & (k <= last), k, np.nan)
+        c = b + sign * (np.nan_to_num(k) * h)
+        far = (np.abs(c[..., None] - f[:, :, None, :]) >= kp[..., None]).all(axis=-1)
+        ok = ~np.isnan(k) & (lo[..., None] < c) & (c < hi[..., None]) & far
+        steps[sign] = np.where(ok, k, np.inf).min(axis=-1)           # (M, K)
+    up, down = steps[1.0], steps[-1.0]
+    return np.where(np.isfinite(up) & (up <= down), base + np.where(np.isfinite(up), up, 0.0) * h,
+                    np.where(np.isfinite(down), base - np.where(np.isfinite(down), down, 0.0) * h, base))
+
+
 def _fixing_stations_mm(motor_s, frame_mm):
     """Stations of the motor mounts' wall screws (``layout.mount_plan.mount_fixings_mm``), which the hull's split
     plan keeps its cuts away from: (N, n) motor stations -> (N, k): two per side at the motor's station -/+
@@ -1150,13 +1180,7 @@ class _Group:
                 base = s0[:, None] + i * diff[:, None] / npc                           # (M, npc-1)
                 lo = s0[:, None] + (i - 0.5) * diff[:, None] / npc
                 hi = s0[:, None] + (i + 0.5) * diff[:, None] / npc
-                D = SPLIT_SEARCH_MM
-                cand = np.stack([base[..., None] + D, base[..., None] - D], axis=-1).reshape(*base.shape, -1)
-                fix = fixings[todo][:, None, None, :]
-                far = (np.abs(cand[..., None] - fix) >= keep[todo][:, None, None, None]).all(axis=-1)
-                ok = (lo[..., None] < cand) & (cand < hi[..., None]) & far
-                first = ok.argmax(axis=-1)
-                best = np.where(ok.any(axis=-1), np.take_along_axis(cand, first[..., None], axis=-1)[..., 0], base)
+                best = _first_clear_cut(base, lo, hi, fixings[todo], keep[todo])
                 cuts = np.concatenate([s0[:, None], best, s1[:, None]], axis=1)          # (M, npc+1)
                 rear = np.arange(npc) < npc - 1
                 sz = sizes(cuts[:, :-1], cuts[:, 1:], np.broadcast_to(rear, (len(todo), npc)), todo)

@@ -174,6 +174,42 @@ def test_a_draw_skipped_before_its_sizing_is_one_the_loader_refuses_sized(monkey
             check_design(V._sized_as_a_designer_would(p), f"skipped draw {i}")
 
 
+def test_the_split_search_takes_the_first_clear_cut_as_trying_every_candidate_does():
+    """``_first_clear_cut`` tries only D = 0 and the grid points about each wall screw's keep-out's far end; trying
+    every candidate (``base`` +/- each of ``SPLIT_SEARCH_MM``, up before down, as the twin did until 2026-11-30 and
+    ``layout.hull_plan._split_stations`` does) must take the same cut, to the bit: random cuts, and cuts whose
+    keep-outs end exactly on the grid (where the rounding of the far end to a grid step could miss one)."""
+    from swiftfin.design_rules.vectorised import SPLIT_SEARCH_MM, _first_clear_cut
+
+    def every_candidate(base, lo, hi, fixings, keep):
+        D = SPLIT_SEARCH_MM
+        cand = np.stack([base[..., None] + D, base[..., None] - D], axis=-1).reshape(*base.shape, -1)
+        far = (np.abs(cand[..., None] - fixings[:, None, None, :]) >= keep[:, None, None, None]).all(axis=-1)
+        ok = (lo[..., None] < cand) & (cand < hi[..., None]) & far
+        first = np.take_along_axis(cand, ok.argmax(axis=-1)[..., None], axis=-1)[..., 0]
+        return np.where(ok.any(axis=-1), first, base)
+
+    rng = np.random.default_rng(1)
+    moved = 0
+    for trial in range(120):
+        M, K, F = 40, int(rng.integers(1, 6)), int(rng.integers(1, 11))
+        base = rng.uniform(0, 500, (M, K))
+        half = rng.uniform(1, 60, (M, K))
+        keep = rng.uniform(2, 15, M)
+        if trial % 3 == 0:
+            base, keep = np.round(base * 2) / 2, np.round(keep * 2) / 2
+        if trial % 2:
+            ends = rng.integers(-60, 60, (M, F)) * 0.5
+            fixings = base[:, :1] + ends + np.where(rng.random((M, F)) < 0.5, keep[:, None], -keep[:, None])
+        else:
+            fixings = base[:, :1] + rng.uniform(-40, 40, (M, F))
+        lo, hi = base - half, base + half
+        want = every_candidate(base, lo, hi, fixings, keep)
+        assert np.array_equal(_first_clear_cut(base, lo, hi, fixings, keep), want), trial
+        moved += int((want != base).sum())
+    assert moved > 1000                  # most cuts had to move off a screw, some as far as the search goes
+
+
 def test_mass_properties_drive_the_float_rules():
     designs = seeded_designs(12, seed=5)
     mps = _mass_properties(len(designs), seed=9)
