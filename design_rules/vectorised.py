@@ -673,15 +673,20 @@ class _Group:
             done |= take
         return out_x, out_y
 
+    def sector_radius(self):
+        """``layout.geometry.sector_radius_mm``: (N,)."""
+        c = self.col
+        dc, cs = c("cable.diameter_mm"), c("print.clearance_sliding_mm")
+        return c("joints.tendon_moment_arm_mm") - dc / 2 + 1.3 * (dc / 2 + cs / 2)
+
     def _joint1_lift(self, pitch_t):
         """``layout.geometry.joint1_lift_mm``: (N,)."""
         c, n = self.col, self.n
         if n < 2:
             return np.zeros(self.N)
-        cs, od, dc = c("print.clearance_sliding_mm"), c("guides.ptfe_tube_od_mm"), c("cable.diameter_mm")
+        cs, od = c("print.clearance_sliding_mm"), c("guides.ptfe_tube_od_mm")
         r_bore = od / 2 + cs
-        reach = (c("joints.tendon_moment_arm_mm") - dc / 2 + 1.3 * (dc / 2 + cs / 2)   # sector_radius_mm
-                 + c("print.clearance_assembly_mm") + r_bore)
+        reach = self.sector_radius() + c("print.clearance_assembly_mm") + r_bore
         x_h, x_bay = -self.js[0], -self.bay_end
         top = np.full(self.N, -np.inf)
         for j in range(1, n):
@@ -1028,7 +1033,7 @@ class _Group:
         k = c("hull.flooded_from_joint")
         kk = np.clip(k - 1, 0, n - 1)
         cs, ca, lw = c("print.clearance_sliding_mm"), c("print.clearance_assembly_mm"), c("print.line_width_mm")
-        od, dc, P = c("guides.ptfe_tube_od_mm"), c("cable.diameter_mm"), self.pitch_t
+        od, P = c("guides.ptfe_tube_od_mm"), self.pitch_t
         m = c("joints.tendon_moment_arm_mm")
         # joint k's hardware (layout.joints._joint_hardware): its own levels, the sector's and the knuckle's heights
         own_hi = (n - k) * 2 * P + P / 2 + np.where(k == 1, self.lift, 0.0)
@@ -1038,7 +1043,7 @@ class _Group:
         z_win_lo = np.where(behind, -P / 2 - (od / 2 + cs) - MIN_WEB_LINES * lw, z_sec_lo)
         z_k0 = z_win_lo - c("joints.link_thickness_mm")
         r_knuckle = c("joints.pin_diameter_mm") / 2 + cs + np.maximum(2.0, 4 * lw)
-        r_sector = m - dc / 2 + 1.3 * (dc / 2 + cs / 2)    # layout.geometry.sector_radius_mm
+        r_sector = self.sector_radius()
         cuts = ((r_sector + ca, z_sec_lo - cs, z_sec_hi + cs), (r_knuckle + ca, z_k0 - cs, z_sec_lo))
         x_axis = -np.take_along_axis(self.js, kk[None], axis=0)[0]
         xf, xb = -s_front, -s_back
