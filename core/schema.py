@@ -105,6 +105,11 @@ class Hull:
                                      "Design: the cable's stroke (moment arm x stop angle, 10 mm at joint 4) plus the "
                                      "grease plug that holds the design depth (catalogues/seals.toml); the wall's "
                                      "front face then stands just behind the bay guide")
+    drive_bay_length_mm: float = p(45.0, 20.0, 200.0, "From the rear motor's aft face to joint 1's axis: the room "
+                                   "behind the motor row for the bay guide's bends, the dry compartment's rear wall "
+                                   "(as thick as its glands) and joint 1's clevis; more moves the motors forward",
+                                   "Design: the bay guide's drop and turn (5/8 of a guide bend radius behind the "
+                                   "motor), the 14 mm glands and the clevis room fit with 0.28 mm to spare")
 
 
 @dataclass(frozen=True)

@@ -62,7 +62,7 @@ from swiftfin.design_rules.findings import Severity
 from swiftfin.design_rules.rules import (MIN_GUIDE_BEND_RAD, MOTOR_CASE_AREA_FACES, RULES, MassProperties,
                                          RuleContext, dry_wall_area_m2, fits_bed, run_rules)
 from swiftfin.layout import loads as _loads
-from swiftfin.layout.geometry import (BAY_AFTER_DROP_RADII, BAY_ARC_ALLOWANCE_LINES, BAY_TO_JOINT_MM, LANE_DROP_PITCHES,
+from swiftfin.layout.geometry import (BAY_AFTER_DROP_RADII, BAY_ARC_ALLOWANCE_LINES, LANE_DROP_PITCHES,
                                       MIN_TUBE_MM, MIN_WEB_LINES, MOTOR_PITCH_GAP_MM, RISE_MAX_PITCHES,
                                       crossing_rise_mm)
 from swiftfin.layout.gland_plan import passage_bore
@@ -646,7 +646,7 @@ class _Group:
         # motors (layout.geometry.motor_placements)
         F = c("motor.frame_size_mm")
         pitch = F + MOTOR_PITCH_GAP_MM
-        s_rear = self.js[0] - BAY_TO_JOINT_MM - F / 2
+        s_rear = self.js[0] - self.col("hull.drive_bay_length_mm") - F / 2
         j = np.arange(n)[:, None]
         self.motor_s = s_rear - j * pitch                                        # (n, N)
         z_face = (c("motor.body_length_mm") - self.top) / 2

@@ -199,7 +199,6 @@ class MotorPlacement:
 
 
 MOTOR_PITCH_GAP_MM = 3.0     # clearance between neighbouring motor frames
-BAY_TO_JOINT_MM = 45.0       # from the rear motor's frame to joint 1's axis: room for the bay guides' bends
 
 
 #: Least printed web, in line widths, between two holes or a hole and a bore end (two perimeters)
@@ -344,7 +343,7 @@ def motor_placements(p: Params) -> tuple[MotorPlacement, ...]:
     n = p.joints.count
     F = p.motor.frame_size_mm
     pitch = F + MOTOR_PITCH_GAP_MM
-    s_rear = joint_stations_mm(p)[0] - BAY_TO_JOINT_MM - F / 2
+    s_rear = joint_stations_mm(p)[0] - p.hull.drive_bay_length_mm - F / 2
     d = spool_dims(p)
     z_face = (p.motor.body_length_mm - d.top_mm) / 2
     out = []

@@ -239,7 +239,8 @@ def gland_plan(p: Params) -> tuple[Gland, ...]:
         raise UserError(f"{key} = {have:g}: the dry compartment's rear wall ({span[1] - span[0]:.1f} mm: the glands "
                         f"and their seat's shoulder) reaches {-room:.2f} mm too far forward: its front face at station "
                         f"{span[0]:.1f} mm must keep {p.print.clearance_assembly_mm:g} mm "
-                        f"(print.clearance_assembly_mm) from the bay guide's aft end: at most {most:g} mm")
+                        f"(print.clearance_assembly_mm) from the bay guide's aft end: at most {most:g} mm, or more "
+                        f"room behind the motors (hull.drive_bay_length_mm = {p.hull.drive_bay_length_mm:g})")
     glands = cable_glands(p)
     bad = wetted(glands)
     if not bad:
@@ -257,8 +258,9 @@ def gland_plan(p: Params) -> tuple[Gland, ...]:
             break
     if fix is None:
         fix = (f"no length up to {most:g} mm makes it longer (the bay guide's aft end, or the key's bound, stops the "
-               f"wall): a smaller stop angle (joints.stop_margin_deg, swimming.tail_amplitude_m) or moment arm "
-               f"(joints.tendon_moment_arm_mm) shortens the stroke")
+               f"wall): more room behind the motors (hull.drive_bay_length_mm = {p.hull.drive_bay_length_mm:g}) "
+               f"lets the wall grow; a smaller stop angle (joints.stop_margin_deg, swimming.tail_amplitude_m) or "
+               f"moment arm (joints.tendon_moment_arm_mm) shortens the stroke")
     raise UserError(f"{key} = {have:g}: {worst.label}'s potted tube through the dry wall is {worst.packed_mm:.1f} mm "
                     f"long, no longer than its cable's stroke {worst.stroke_mm:.1f} mm (joint {worst.joint}): the wet "
                     f"stretch of cable would reach the dry side; {fix}")
