@@ -644,7 +644,8 @@ def layout_problems(p: Params) -> list[Problem]:
                                        f"motor for joint {mp.joint + 1} does not fit in the hull: at station "
                                        f"{s:.0f} mm, height {z:.0f} mm the hull has {room:.1f} mm half-width, "
                                        f"needs {need:.1f} mm (move joint 1 aft, or use a smaller motor.frame_size_mm, "
-                                       f"or a larger body.height_to_width)"))
+                                       f"or a larger body.height_to_width, or less room behind the motors: "
+                                       f"hull.drive_bay_length_mm = {p.hull.drive_bay_length_mm:g})"))
                     break
             else:
                 continue
@@ -664,7 +665,8 @@ def layout_problems(p: Params) -> list[Problem]:
     segs = hull_segments(p)
     if motors[-1].s_mm - F / 2 < p.body.nose_cap_fraction * p.body.length_mm:
         out.append(Problem("joints.stations_fraction", list(p.joints.stations_fraction),
-                           "the motor row reaches into the nose cap: move joint 1 aft"))
+                           f"the motor row reaches into the nose cap: move joint 1 aft, or leave less room behind "
+                           f"the motors (hull.drive_bay_length_mm = {p.hull.drive_bay_length_mm:g})"))
     for seg in segs:
         need = 2 * p.hull.bulkhead_thickness_mm + 2 * p.joints.pin_diameter_mm
         if seg.s_end_mm - seg.s_start_mm >= need:

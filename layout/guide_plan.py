@@ -374,7 +374,9 @@ def _check_arc(label: str, ch: Channel, x_lo: float, x_hi: float, seg_in: float,
         raise UserError(f"{label}: the {math.degrees(ch.angle_rad):.1f} deg bend of joint {ch.joint}'s "
                         f"{'left' if ch.side > 0 else 'right'} cable cannot be made with the minimum bend radius "
                         f"guides.min_bend_radius_mm = {ch.radius_mm:g} mm: " + "; ".join(problems)
-                        + " (use a smaller guides.min_bend_radius_mm, i.e. a more flexible tube)")
+                        + " (use a smaller guides.min_bend_radius_mm, i.e. a more flexible tube"
+                        + (", or more room behind the motors, hull.drive_bay_length_mm" if label == "guide_bay" else "")
+                        + ")")
 
 
 def _with_seats(p: Params, b: GuideBlock) -> GuideBlock:
