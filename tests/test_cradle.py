@@ -175,3 +175,37 @@ def test_the_loader_refuses_it_naming_the_key(tmp_path, capsys):
     assert main(["check", str(text)]) == 2
     err = capsys.readouterr().err
     assert "components[0].z_mm" in err and "-47" in err and "Traceback" not in err
+
+
+def test_the_loader_refuses_a_component_in_a_motors_way():
+    """A component (with its cradle) within the assembly clearance of a motor is refused when the design loads,
+    naming the component's station and the room behind the motors. Both cases were found by the build's assembly
+    check at its end (2026-11-30): tests/data/seeded_board_in_motor.toml (seeded_designs(120, seed=16)[88], the board
+    placed inside motor 4: 16 947 mm^3 of overlap, 2 min 19 s into the build) and the default with 5 mm more room
+    behind the motors and 18 mm glands (motor 4 in the board, 951 mm^3, 2 min 47 s). The default keeps 0.76 mm."""
+    import tomllib
+    from pathlib import Path
+
+    from swiftfin.core.params import to_dict
+    from swiftfin.core.schema import Params
+    from swiftfin.layout.design import design_problems
+    from swiftfin.layout.geometry import motor_placements
+    from swiftfin.layout.cradle_plan import wall_mm
+
+    raw = tomllib.loads((Path(__file__).parent / "data" / "seeded_board_in_motor.toml").read_text())
+    _, problems = design_problems(raw)
+    assert [pr.key for pr in problems] == ["components[1].station_fraction"], [str(pr) for pr in problems]
+    assert "'electronics' and its cradle" in problems[0].expected and "of motor 4" in problems[0].expected
+    d = to_dict(Params())
+    d["hull"].update(drive_bay_length_mm=50.0, cable_gland_length_mm=18.0)
+    _, problems = design_problems(d)
+    assert [pr.key for pr in problems] == ["components[1].station_fraction"], [str(pr) for pr in problems]
+    assert "of motor 4" in problems[0].expected and "hull.drive_bay_length_mm = 50" in problems[0].expected
+    p = Params()
+    _, problems = design_problems(to_dict(p))
+    assert problems == []
+    board = next(c for c in p.components if c.name == "electronics")
+    aft_end = (board.station_fraction * p.body.length_mm + board.size_mm[0] / 2
+               + p.print.clearance_sliding_mm + wall_mm(p))
+    motor_4 = motor_placements(p)[-1]
+    assert motor_4.s_mm - p.motor.frame_size_mm / 2 - aft_end == pytest.approx(0.76, abs=0.01)

@@ -41,7 +41,9 @@ CASES = [
     case("[body]\r\nlength_mm = 520.0\r\n", 0, "valid", id="crlf-line-endings"),
     case(b"\xef\xbb\xbf[body]\nlength_mm = 520.0\n", 0, "valid", id="utf8-bom"),
     case("# " + "x" * 200_000 + "\n[body]\nlength_mm = 520\n", 0, "valid", id="very-long-comment-line"),
-    case(_component('"battery"') + _component('"radio_2"'), 0, "valid", id="two-good-components"),
+    # under the motors (at z = 0 these 10 mm boxes stood inside motor 2, which the loader refuses since 2026-11-30)
+    case(_component('"battery"', "z_mm = -38.0\n") + _component('"radio_2"', "z_mm = -38.0\n"), 0, "valid",
+         id="two-good-components"),
     # --- unknown keys, with suggestions
     case("[spool]\ndiamter_mm = 20\n", 2, "spool.diamter_mm = 20", "did you mean 'drum_diameter_mm'",
          id="unknown-key-suggestion"),

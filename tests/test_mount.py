@@ -367,19 +367,22 @@ def test_a_mount_pulled_harder_than_its_wall_screws_hold_is_refused_naming_the_s
     assert all(f.length_mm <= 40 for f in wall_fixings(m3))
 
 
-@pytest.mark.parametrize("name, key, words", [
+@pytest.mark.parametrize("name, key, words, also", [
     ("seeded_mount_narrow", "motor.frame_size_mm",
      # the pads follow joint 1's turn in the bay guide: 15.8 mm, 16.3 when its cable rose over the lanes, 15.1 when
      # its pair was lifted over the passing cables (2026-11-29) and its cable came down less
-     ("motor_mount_1: the hull is only 36.2 mm wide (half) at the mount plate", "wall screws' pads (15.1 mm)")),
+     ("motor_mount_1: the hull is only 36.2 mm wide (half) at the mount plate", "wall screws' pads (15.1 mm)"),
+     "components[1].station_fraction"),
     ("seeded_guide_posts", "spool.drum_diameter_mm",
-     ("guide_exit_2: its posts", "would sit on the motor's screw heads", "spool.drum_diameter_mm")),
+     ("guide_exit_2: its posts", "would sit on the motor's screw heads", "spool.drum_diameter_mm"),
+     "components[0].station_fraction"),
 ])
-def test_the_loader_refuses_a_mount_or_guide_the_build_could_not_make(name, key, words, tmp_path):
+def test_the_loader_refuses_a_mount_or_guide_the_build_could_not_make(name, key, words, also, tmp_path):
     """Two seeded designs the loader accepted and the build refused at its start (of 200 drawn with seeds 16 and
     2027, 27 did: 7 a mount plate, 20 a guide's posts): the guides' and the mounts' numbers are made without the CAD
     kernel now (layout/guide_plan.py, layout/mount_plate_plan.py), so ``swiftfin check`` refuses them, exit 2, under
-    a key, with the build's own words; and ``swiftfin build`` writes nothing."""
+    a key, with the build's own words; and ``swiftfin build`` writes nothing. (Both also have a component within the
+    assembly clearance of a motor, which the loader has found too since 2026-11-30: a second problem, ``also``.)"""
     import subprocess
     import sys
     import tomllib
@@ -388,7 +391,7 @@ def test_the_loader_refuses_a_mount_or_guide_the_build_could_not_make(name, key,
     from swiftfin.layout.design import design_problems
     path = Path(__file__).parent / "data" / f"{name}.toml"
     _, problems = design_problems(tomllib.loads(path.read_text(encoding="utf-8")))
-    assert [pr.key for pr in problems] == [key], [str(pr) for pr in problems]
+    assert [pr.key for pr in problems] == [key, also], [str(pr) for pr in problems]
     assert all(w in problems[0].expected for w in words), problems[0].expected
     for cmd in (["check", str(path)], ["build", str(path), "--out", str(tmp_path / "out")]):
         run = subprocess.run([sys.executable, "-m", "swiftfin", *cmd], capture_output=True, text=True, timeout=300)
