@@ -34,6 +34,20 @@ def case(content, code, *present, absent=(), id):
     return pytest.param(content, code, present, absent, id=id)
 
 
+# The room behind the motors: too little for the bay guide's bends or the wall, too much for the nose (in the
+# params, check and build cases alike).
+DRIVE_BAY = [
+    case("[hull]\ndrive_bay_length_mm = 20\n", 2, "guide_bay", "more room behind the motors, hull.drive_bay_length_mm",
+         id="drive-bay-too-short-for-the-bay-guide"),
+    case("[hull]\ndrive_bay_length_mm = 35\n", 2, "reaches 10.36 mm too far forward",
+         "or more room behind the motors (hull.drive_bay_length_mm = 35)", id="drive-bay-too-short-for-the-wall"),
+    case("[hull]\ndrive_bay_length_mm = 120\n", 2, "does not fit in the hull",
+         "less room behind the motors: hull.drive_bay_length_mm = 120", id="drive-bay-too-long-for-the-nose"),
+    case("[hull]\ndrive_bay_length_mm = 201\n", 2, "hull.drive_bay_length_mm = 201: out of range: allowed [20, 200]",
+         id="drive-bay-out-of-range"),
+]
+
+
 CASES = [
     # --- fine files: defaults fill the gaps
     case("", 0, "valid", id="empty-file"),
@@ -134,15 +148,7 @@ CASES = [
          id="layout-motor-too-big"),
     case(THREE_LEVELS, 2, "spool.wraps = -1", "spool.groove_pitch_mm", "motor.frame_size_mm",
          id="three-levels-at-once"),
-    # the room behind the motors: too little for the bay guide's bends or the wall, too much for the nose
-    case("[hull]\ndrive_bay_length_mm = 20\n", 2, "guide_bay", "more room behind the motors, hull.drive_bay_length_mm",
-         id="drive-bay-too-short-for-the-bay-guide"),
-    case("[hull]\ndrive_bay_length_mm = 35\n", 2, "reaches 10.36 mm too far forward",
-         "or more room behind the motors (hull.drive_bay_length_mm = 35)", id="drive-bay-too-short-for-the-wall"),
-    case("[hull]\ndrive_bay_length_mm = 120\n", 2, "does not fit in the hull",
-         "less room behind the motors: hull.drive_bay_length_mm = 120", id="drive-bay-too-long-for-the-nose"),
-    case("[hull]\ndrive_bay_length_mm = 201\n", 2, "hull.drive_bay_length_mm = 201: out of range: allowed [20, 200]",
-         id="drive-bay-out-of-range"),
+    *DRIVE_BAY,
     case("[body]\nhull_end_fraction = 0.8\n", 2, "body.hull_end_fraction = 0.8", "allowed [0.8, 0.98]",
          "joints.stations_fraction[-1] = 0.765", id="hull-end-fraction"),
     case("[rules]\nstrouhal_min = 0.4\nstrouhal_max = 0.3\n", 2, "rules.strouhal_min = 0.4", id="contradictory-rules"),
@@ -233,15 +239,7 @@ CHECK_CASES = [
     case("a = " + "[" * 5000 + "]" * 5000 + "\n", 2, "nested too deeply", id="deep-arrays-5000"),
     case(THREE_LEVELS, 2, "spool.wraps = -1", "spool.groove_pitch_mm", "motor.frame_size_mm",
          id="three-levels-at-once"),
-    # the room behind the motors: too little for the bay guide's bends or the wall, too much for the nose
-    case("[hull]\ndrive_bay_length_mm = 20\n", 2, "guide_bay", "more room behind the motors, hull.drive_bay_length_mm",
-         id="drive-bay-too-short-for-the-bay-guide"),
-    case("[hull]\ndrive_bay_length_mm = 35\n", 2, "reaches 10.36 mm too far forward",
-         "or more room behind the motors (hull.drive_bay_length_mm = 35)", id="drive-bay-too-short-for-the-wall"),
-    case("[hull]\ndrive_bay_length_mm = 120\n", 2, "does not fit in the hull",
-         "less room behind the motors: hull.drive_bay_length_mm = 120", id="drive-bay-too-long-for-the-nose"),
-    case("[hull]\ndrive_bay_length_mm = 201\n", 2, "hull.drive_bay_length_mm = 201: out of range: allowed [20, 200]",
-         id="drive-bay-out-of-range"),
+    *DRIVE_BAY,
     case(_component('"../../x"'), 2, "components[0].name = '../../x'", id="component-name-path"),
     case(_component('"radio"', "z_mm = -70.0\n"), 2, "components[0].z_mm = -70.0",
          "past the hull's inner surface", id="component-through-the-hull"),
@@ -263,15 +261,7 @@ BUILD_CASES = [
     case("[body]\nlength_mm = " + "[" * 40 + "]" * 40 + "\n", 2, "nested more than 16", id="deep-array-40"),
     case(THREE_LEVELS, 2, "spool.wraps = -1", "spool.groove_pitch_mm", "motor.frame_size_mm",
          id="three-levels-at-once"),
-    # the room behind the motors: too little for the bay guide's bends or the wall, too much for the nose
-    case("[hull]\ndrive_bay_length_mm = 20\n", 2, "guide_bay", "more room behind the motors, hull.drive_bay_length_mm",
-         id="drive-bay-too-short-for-the-bay-guide"),
-    case("[hull]\ndrive_bay_length_mm = 35\n", 2, "reaches 10.36 mm too far forward",
-         "or more room behind the motors (hull.drive_bay_length_mm = 35)", id="drive-bay-too-short-for-the-wall"),
-    case("[hull]\ndrive_bay_length_mm = 120\n", 2, "does not fit in the hull",
-         "less room behind the motors: hull.drive_bay_length_mm = 120", id="drive-bay-too-long-for-the-nose"),
-    case("[hull]\ndrive_bay_length_mm = 201\n", 2, "hull.drive_bay_length_mm = 201: out of range: allowed [20, 200]",
-         id="drive-bay-out-of-range"),
+    *DRIVE_BAY,
     case(DIRECTORY, 2, "is a directory", id="directory"),
     case(FIFO, 2, "is not a regular file", id="fifo"),
 ]
