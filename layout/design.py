@@ -58,11 +58,11 @@ _PLANS: tuple[tuple[str, str, str], ...] = (
     ("swiftfin.layout.mount_plate_plan:mount_fasteners", "motor.frame_size_mm", "the motor mounts' plates"),
     ("swiftfin.layout.spool_plan:spool_plan", "spool.drum_diameter_mm", "the spools"),
     ("swiftfin.layout.cradle_plan:cradles", "components", "the components' cradles"),
-    ("swiftfin.layout.hull_plan:components_clear_of_motors", "components", "the components beside the motors"),
+    ("swiftfin.layout.cradle_plan:components_clear_of_motors", "components", "the components beside the motors"),
 )
 
 
-_PIECE_FREE_PLANS = ("swiftfin.layout.spool_plan:spool_plan", "swiftfin.layout.hull_plan:components_clear_of_motors")
+_PIECE_FREE_PLANS = ("swiftfin.layout.spool_plan:spool_plan",)
 """Plans that read none of the hull's pieces: made even where the hull cannot be cut to fit the bed (a seeded design
 with spool grooves too thin for a line was accepted because its unsplit hull fitted no bed, 2026-11-30)."""
 

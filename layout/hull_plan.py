@@ -421,47 +421,6 @@ def component_problem(p: Params, i: int, comp, hollow: tuple[float, float]):
     return None
 
 
-def components_clear_of_motors(p: Params) -> None:
-    """Raises :class:`UserError` naming ``components[i].station_fraction`` where a component comes within the
-    assembly clearance of a motor (:func:`_motor_in_the_way`); one of the loader's plans (``layout.design``)."""
-    for i, comp in enumerate(p.components):
-        if comp.name == "fasteners":
-            continue
-        pr = _motor_in_the_way(p, i, comp)
-        if pr is not None:
-            raise UserError(f"{pr.key} = {pr.value!r}: {pr.expected}")
-
-
-def _motor_in_the_way(p: Params, i: int, comp):
-    """The problem of component ``comp`` (``components[i]``) coming within ``print.clearance_assembly_mm`` of a motor,
-    or None. The component is taken with its cradle (its box grown by the sliding clearance and the cradle's wall,
-    down to the shell, or up to it where the cradle hangs), the motor as its frame from the body's back up to the
-    mount plate on its face. Found by the build's assembly check at its end until 2026-11-30: a seeded design's board
-    inside motor 4 (16 947 mm^3), and the default with 5 mm more room behind the motors (951 mm^3)."""
-    from swiftfin.core.params import Problem
-    from swiftfin.layout.cradle_plan import wall_mm
-    c = p.print.clearance_assembly_mm
-    sx, sy, sz = comp.size_mm
-    sc = comp.station_fraction * p.body.length_mm
-    grow = p.print.clearance_sliding_mm + wall_mm(p)
-    s_lo, s_hi = sc - sx / 2 - grow, sc + sx / 2 + grow
-    z_lo, z_hi = comp.z_mm - sz / 2, comp.z_mm + sz / 2
-    z_lo, z_hi = (z_lo, math.inf) if comp.z_mm > 0.0 else (-math.inf, z_hi)     # the cradle reaches the shell
-    F = p.motor.frame_size_mm
-    for mp in L.motor_placements(p):       # both boxes straddle y = 0: they meet in plan where they meet along s
-        m_lo, m_hi = mp.z_face_mm - p.motor.body_length_mm, mp.z_face_mm + L.plate_thickness_mm(p)
-        gap_s = max(s_lo - (mp.s_mm + F / 2), (mp.s_mm - F / 2) - s_hi)
-        gap_z = max(z_lo - m_hi, m_lo - z_hi)
-        if max(gap_s, gap_z) < c:
-            return Problem(f"components[{i}].station_fraction", comp.station_fraction,
-                           f"{comp.name!r} and its cradle (s = {s_lo:.1f}..{s_hi:.1f} mm, z up to {z_hi:.1f} mm) "
-                           f"come within print.clearance_assembly_mm ({c:g} mm) of motor {mp.joint + 1} (its frame "
-                           f"and mount plate at s = {mp.s_mm - F / 2:.1f}..{mp.s_mm + F / 2:.1f} mm, z = {m_lo:.1f}.."
-                           f"{m_hi:.1f} mm): move it (station_fraction, z_mm), or the motors "
-                           f"(hull.drive_bay_length_mm = {p.hull.drive_bay_length_mm:g})")
-    return None
-
-
 def part_label(p: Params, pc: HullPiece, half: str) -> str:
     """Label of the printed part of ``pc`` holding its ``half`` ("upper"/"lower"): the half, or the whole piece."""
     return f"{pc.name}_{half}" if p.hull.split_halves else pc.name
