@@ -186,7 +186,7 @@ def components_clear_of_motors(p: Params) -> None:
     """Raises :class:`UserError` naming ``components[i].station_fraction`` where a component comes within the
     assembly clearance of a motor (:func:`_motor_in_the_way`); one of the loader's plans (``layout.design``)."""
     for i, comp in enumerate(p.components):
-        if comp.name == "fasteners":
+        if comp.name in PLACEHOLDERS:
             continue
         pr = _motor_in_the_way(p, i, comp)
         if pr is not None:
