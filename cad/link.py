@@ -138,6 +138,18 @@ def fan_half_deg(h: JointHardware) -> float:
     return h.stop_deg + FLARE_EXTRA_DEG
 
 
+FAN_INSET_MM = 0.02
+"""How much narrower than its rod, a side, the fan's revolved strip is (:func:`fan_cutter`) [mm]: enough that the
+rods cross the strip's faces instead of touching them along a line, little enough to leave the cable (a fraction of
+the hole) all its room. The exact tangencies (the end rods and the ball on the strip's faces, the straight hole's
+end disc, 1 mm ahead of the pivot, on its floor) left a 700 mm design's joint_link_2 and joint_link_3 with meshes
+that were not closed: sliver faces along the holes' floors, found at the end of its build (2026-12-07)."""
+FAN_BALL_OVER_MM = 0.01
+"""How much larger than the rod the ball at the fan's pivot is [mm]: the rods' end discs at the pivot (the fan's and
+the straight hole behind the axis, :func:`cable_hole_cutters`) lie inside it instead of on it. Its caps stand this
+far past the hole's radius over less than a square millimetre, under the wall probe's resolution."""
+
+
 def fan_cutter(point, u, radius: float, length: float, half_deg: float) -> bd.Solid:
     """The hole a straight rod (``radius``, from ``point`` along unit ``u`` for ``length``) cuts while it turns
     about the vertical axis through ``point`` by +/- ``half_deg``: its section in its own vertical plane (a strip
@@ -151,9 +163,11 @@ def fan_cutter(point, u, radius: float, length: float, half_deg: float) -> bd.So
         return rod(point, u, radius, length)
     er = (hx / h, hy / h)
     # the strip in (rho, z) about the pivot, clipped to rho >= eps (Sutherland-Hodgman on one edge): an edge on the
-    # turning axis itself would revolve into degenerate faces; the ball covers the thin core left
-    quad = [(s * h - t * v, s * v + t * h) for s, t in ((0.0, -radius), (length, -radius), (length, radius),
-                                                         (0.0, radius))]
+    # turning axis itself would revolve into degenerate faces; the ball covers the thin core left. The strip is
+    # FAN_INSET_MM narrower than the rod a side, so the rods at the fan's ends and the ball cross its revolved faces
+    # instead of touching them along a line: that tangency tessellated into a mesh that is not closed
+    w = radius - FAN_INSET_MM
+    quad = [(s * h - t * v, s * v + t * h) for s, t in ((0.0, -w), (length, -w), (length, w), (0.0, w))]
     eps = 0.05 * radius
     poly = []
     for (r0, z0), (r1, z1) in zip(quad, quad[1:] + quad[:1]):
@@ -167,7 +181,8 @@ def fan_cutter(point, u, radius: float, length: float, half_deg: float) -> bd.So
     axis = bd.Axis((px, py, pz), (0, 0, 1))
     sweep = bd.Solid.revolve(face.rotate(axis, -half_deg), 2 * half_deg, axis)
     ends = [rod(point, turned(u, a), radius, length) for a in (-half_deg, half_deg)]
-    ball = bd.Solid.make_sphere(radius, angle1=-90, angle2=90, angle3=360, plane=bd.Plane(origin=tuple(point)))
+    ball = bd.Solid.make_sphere(radius + FAN_BALL_OVER_MM, angle1=-90, angle2=90, angle3=360,
+                                plane=bd.Plane(origin=tuple(point)))
     return sweep.fuse(*ends, ball).clean()
 
 
@@ -179,7 +194,7 @@ def cable_hole_cutters(h: JointHardware) -> list[bd.Solid]:
     for cr in h.crossings:
         d = cr.dir_out
         length = (h.gap_half_mm + 1.0) / max(abs(d[0]), 1e-6) + 1.0
-        out.append(rod([c - 1.0 * u for c, u in zip(cr.point_mm, d)], d, hr, length))
+        out.append(rod(cr.point_mm, d, hr, length))      # from the pivot: its end disc inside the fan's ball
         u = cr.dir_in
         reach = (h.sector_radius_mm + 1.0) / max(math.hypot(u[0], u[1]), 0.2) + 0.5
         out.append(fan_cutter(cr.point_mm, u, hr, reach, fan_half_deg(h)))

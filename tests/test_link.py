@@ -194,6 +194,22 @@ def test_other_designs_build_valid_links():
     assert np.isfinite(joint_hardware(three, 3).x_mm)
 
 
+def test_a_longer_fishs_links_tessellate_closed():
+    """A user's 700 mm fish with 60 mm behind the motors (2026-12-07): its build stopped after 3 minutes at the
+    assembly check, joint_link_3's mesh not a closed manifold (and joint_link_2's with four faces on one edge). The
+    fan of each pass-through hole touched its end rods, its ball and the straight hole's end disc along lines and
+    circles (cad/link.py: FAN_INSET_MM, FAN_BALL_OVER_MM); at the export's tolerance every link's mesh is closed now,
+    and so are the default's."""
+    from swiftfin.core.params import replace_key
+    from swiftfin.exports.brep import is_closed, tessellate
+    longer = replace_key(replace_key(P, "body.length_mm", 700.0), "hull.drive_bay_length_mm", 60.0)
+    for p in (longer, P):
+        assert L.layout_problems(p) == []
+        for ps in make_joint_links(p):
+            m = tessellate(ps.solid, p.export.mesh_tolerance_mm, p.export.mesh_angular_tolerance_deg)
+            assert is_closed(m), (p.body.length_mm, ps.label)
+
+
 @pytest.mark.parametrize("j", [1, 2, 3])
 def test_webs_around_the_pass_through_holes_are_two_perimeters(holed_links, j):
     """Measured on the solid, along the straight pass-through holes behind the axis: the web between stacked
