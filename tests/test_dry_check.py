@@ -366,8 +366,11 @@ def _gland_ratings_by_bisection(p):
     return out
 
 
-ROOM_BEHIND_THE_MOTORS = {"hull.drive_bay_length_mm": 50.0, "hull.cable_gland_length_mm": 20.0}
-"""seeded_gland_short's motors 5 mm further forward, which leaves its wall room for 20 mm glands."""
+ROOM_BEHIND_THE_MOTORS = {"hull.drive_bay_length_mm": 45.5, "hull.cable_gland_length_mm": 16.0}
+"""seeded_gland_short's motors 0.5 mm further forward, which leaves its wall room for 16 mm glands. Until 2026-12-07
+this was 5 mm and 20 mm glands, a design the loader took and the build would have refused: its cables then cross
+the wall lower, and gland_2_right's tube runs into the seam gasket (0.10 mm into its band); the loader refuses that
+now, and 45.5 mm is the most room behind the motors it leaves this design."""
 
 
 def _with(p, changes: dict):
@@ -422,9 +425,10 @@ def test_check_rates_every_gland_by_its_own_packed_length(name, changes, verdict
 
 def test_more_room_behind_the_motors_lets_the_dry_wall_grow():
     """seeded_gland_short's glands cannot grow past 15.5 mm: the wall's front face reaches the bay guide, and the
-    loader's refusal names the room behind the motors (``hull.drive_bay_length_mm``) as the way out. 5 mm more of it
-    moves every motor 5 mm forward (and the guides and lanes with them): the wall then takes 20 mm glands (the rule
-    passes, above)."""
+    loader's refusal names the room behind the motors (``hull.drive_bay_length_mm``) as the way out. 0.5 mm more of it
+    moves every motor 0.5 mm forward (and the guides and lanes with them): the wall then takes 16 mm glands (the rule
+    passes, above). 5 mm more would take 20 mm glands, but the cables then cross the wall so low that a gland's tube
+    runs into the seam gasket, and the loader says how much room this design can have."""
     from pathlib import Path
 
     from swiftfin.core.params import ParamError
@@ -436,13 +440,16 @@ def test_more_room_behind_the_motors_lets_the_dry_wall_grow():
     with pytest.raises(ParamError, match=r"hull\.cable_gland_length_mm = 16\.0: .* bay guide.s aft end: at most "
                                          r"15\.5 mm, or more room behind the motors \(hull.drive_bay_length_mm = 45\)"):
         _with(p, {"hull.cable_gland_length_mm": 16.0})
+    with pytest.raises(ParamError, match=r"hull\.drive_bay_length_mm = 50\.0: gland_2_right's PTFE tube .* reaches "
+                                         r"0\.10 mm into the seam gasket's band .* at most 45\.5 mm behind the motors"):
+        _with(p, {"hull.drive_bay_length_mm": 50.0, "hull.cable_gland_length_mm": 20.0})
     q = _with(p, ROOM_BEHIND_THE_MOTORS)
     assert joint_stations_mm(q) == joint_stations_mm(p)
     for a, b in zip(motor_placements(p), motor_placements(q)):
-        assert b.s_mm == pytest.approx(a.s_mm - 5.0, abs=1e-9) and b.z_cable_mm == a.z_cable_mm
-    # every cable leaves its drum 5 mm further forward; the hinge lines stay where the joints are
+        assert b.s_mm == pytest.approx(a.s_mm - 0.5, abs=1e-9) and b.z_cable_mm == a.z_cable_mm
+    # every cable leaves its drum 0.5 mm further forward; the hinge lines stay where the joints are
     for ra, rb in zip(cable_routes(p), cable_routes(q)):
-        assert rb.points_mm[0][0] == pytest.approx(ra.points_mm[0][0] + 5.0, abs=1e-9)
+        assert rb.points_mm[0][0] == pytest.approx(ra.points_mm[0][0] + 0.5, abs=1e-9)
         assert [b.point_mm[0] for b in rb.bends if b.kind == "hinge"] == [
             b.point_mm[0] for b in ra.bends if b.kind == "hinge"]
     assert wall_room_mm(q) > 0.0

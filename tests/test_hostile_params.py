@@ -45,6 +45,10 @@ DRIVE_BAY = [
          "less room behind the motors: hull.drive_bay_length_mm = 120", id="drive-bay-too-long-for-the-nose"),
     case("[hull]\ndrive_bay_length_mm = 201\n", 2, "hull.drive_bay_length_mm = 201: out of range: allowed [20, 200]",
          id="drive-bay-out-of-range"),
+    # a user's longer fish: its build stopped after 3 minutes at the assembly check (a gland's tube in the gasket)
+    case("[body]\nlength_mm = 700\n[hull]\ndrive_bay_length_mm = 60\n", 2,
+         "hull.drive_bay_length_mm = 60.0: gland_4_right's PTFE tube", "reaches 0.22 mm into the seam gasket's band",
+         "at most 53 mm behind the motors", id="drive-bay-lowers-a-gland-into-the-seam-gasket"),
 ]
 
 
