@@ -49,6 +49,7 @@ Interpretations (body frame of :mod:`swiftfin.layout.geometry`, mm):
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -297,9 +298,11 @@ def _vent_holes(p: Params, pc: HullPiece) -> list[bd.Solid]:
     return [rod((-s, 0.0, sg * z_in), (0, 0, sg), r, 3 * p.hull.wall_thickness_mm + 2.0) for sg in (1, -1)]
 
 
+@functools.lru_cache(maxsize=4)
 def piece_solid(p: Params, pc: HullPiece, one_by_one: bool = False) -> bd.Solid:
     """The whole piece (before the split into halves), as one solid. ``one_by_one``: its added features fused one
-    at a time (see :func:`_piece_split`)."""
+    at a time (see :func:`_piece_split`). Memoised on its arguments (a build's recording params are equal only to
+    themselves): whoever asks for a piece again, as :func:`_piece_split` does after a caller tried it, reads it."""
     hw = {h.joint: h for h in all_joint_hardware(p)}
     outer = _outer(p, pc)
     body = outer
