@@ -109,14 +109,20 @@ def default_build(default_params, tmp_path_factory):
     """The default design's parts as the build makes them (swiftfin.pipeline.build_parts: each family of
     cad/registry.py in build order, checked, read back from its BREP, exported, with the print orientation its
     export chose), then the trim ballast's dam and fill (pipeline.place_ballast), through the run's shared rebuild
-    cache: the first worker to get here builds them (about 2 min), the others read them. A BuildResult: tests read
-    it and must not change it."""
+    cache: the first worker to get here builds them (about 2 min), the others wait for it and read them. A
+    BuildResult: tests read it and must not change it."""
+    import fcntl
+
     from swiftfin.cache import FamilyCache
     from swiftfin.pipeline import build_parts, place_ballast
 
     cache = FamilyCache(session_cache_dir(tmp_path_factory))
-    result = build_parts(default_params, cache)
-    place_ballast(result, cache)
+    # one worker at a time: the first builds (the build's own processes on every core), the others wait and read
+    # every family from the cache; without it two workers arriving together each built the whole design
+    with open(session_shared_dir(tmp_path_factory) / "default-build.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        result = build_parts(default_params, cache)
+        place_ballast(result, cache)
     return result
 
 

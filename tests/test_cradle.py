@@ -10,7 +10,6 @@ import pytest
 
 from swiftfin.cad.assembly import Placed
 from swiftfin.cad.part import PartSpec
-from swiftfin.cad.registry import family_function
 from swiftfin.catalogues.mounting import pad
 from swiftfin.cli import main
 from swiftfin.core.errors import UserError
@@ -23,8 +22,9 @@ P = Params()
 
 
 @pytest.fixture(scope="module")
-def built():
-    return {s.label: s for s in family_function("cradle")(P)}
+def built(default_parts):
+    """The cradles as the registry gives them: the session's default build's."""
+    return {s.label: s for s in default_parts if s.family == "cradle"}
 
 
 def _placed(spec_or_solid, label, link=0):

@@ -17,10 +17,10 @@ P = Params()
 
 
 @pytest.fixture(scope="session")
-def fin():
-    """The fin as the registry gives it: with the root screws' pilots cut."""
-    from swiftfin.cad.registry import family_function
-    return family_function("fin")(P)[0]
+def fin(default_parts):
+    """The fin as the registry gives it, with the root screws' pilots cut: the session's default build's."""
+    (part,) = [ps for ps in default_parts if ps.family == "fin"]
+    return part
 
 
 @pytest.fixture(scope="session")

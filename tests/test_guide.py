@@ -176,10 +176,10 @@ def test_screw_holes_miss_the_channels():
 
 
 @pytest.fixture(scope="session")
-def holed_guides():
-    """The guides as built with their fastener holes (the registry's family function)."""
-    from swiftfin.cad.registry import family_function
-    return family_function("guide")(Params())
+def holed_guides(default_parts):
+    """The guides as built with their fastener holes (the registry's family function): the session's default
+    build's."""
+    return [ps for ps in default_parts if ps.family == "guide"]
 
 
 def test_guide_screws_on_the_solids(holed_guides):

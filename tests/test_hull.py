@@ -29,17 +29,17 @@ DEFAULT_LABELS = [f"{n}_{h}" for n in ("hull_head_front", "hull_head_rear", "hul
 
 
 @pytest.fixture(scope="session")
-def hull_parts():
-    """The printed hull parts as the registry gives them: with every fastener's holes cut."""
-    from swiftfin.cad.registry import family_function
-    return {ps.label: ps for ps in family_function("hull")(P) if ps.family == "hull"}
+def hull_parts(default_parts):
+    """The printed hull parts as the registry gives them, with every fastener's holes cut: the session's default
+    build's (conftest.default_build), not made again here."""
+    return {ps.label: ps for ps in default_parts if ps.family == "hull"}
 
 
 @pytest.fixture(scope="session")
-def link_parts():
-    """The links as the registry gives them: the pins' bores come from the pins' records, as in the clevis."""
-    from swiftfin.cad.registry import family_function
-    return {ps.label: ps for ps in family_function("link")(P)}
+def link_parts(default_parts):
+    """The links as the registry gives them (the pins' bores come from the pins' records, as in the clevis): the
+    session's default build's."""
+    return {ps.label: ps for ps in default_parts if ps.family == "link"}
 
 
 def common_volume(a, b) -> float:

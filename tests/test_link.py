@@ -27,11 +27,10 @@ def links():
 
 
 @pytest.fixture(scope="session")
-def holed_links():
+def holed_links(default_parts):
     """The links as the build makes them: with the holes of their fastener records (the pins' blind bores, the
-    flange screws' clearance holes) cut by the registry."""
-    from swiftfin.cad.registry import family_function
-    return {ps.label: ps for ps in family_function("link")(P)}
+    flange screws' clearance holes) cut by the registry; the session's default build's."""
+    return {ps.label: ps for ps in default_parts if ps.family == "link"}
 
 
 LABELS = [f"joint_link_{j}" for j in range(1, 5)]

@@ -16,7 +16,6 @@ from swiftfin.cad.fastening import all_fasteners
 from swiftfin.layout.guide_plan import guide_blocks
 from swiftfin.cad.mount import mount_solid
 from swiftfin.layout.mount_plate_plan import mount_numbers
-from swiftfin.cad.registry import family_function
 from swiftfin.layout.mount_plan import mount_wall_loads, motor_screw_fit, wall_fixings
 from swiftfin.core.params import replace_key
 from swiftfin.core.schema import Params
@@ -25,9 +24,10 @@ from tests.test_spool import mesh_of
 
 
 @pytest.fixture(scope="session")
-def mounts():
-    """The mounts as built, with their fasteners' holes (the registry's family function)."""
-    return family_function("mount")(Params())
+def mounts(default_parts):
+    """The mounts as built, with their fasteners' holes (the registry's family function): the session's default
+    build's."""
+    return [ps for ps in default_parts if ps.family == "mount"]
 
 
 def _cylinders(solid):
