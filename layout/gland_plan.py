@@ -262,17 +262,32 @@ def _seam_problem(p: Params, glands) -> str | None:
         except Exception:  # noqa: BLE001 - a layout the loader's other checks refuse there: not a way out
             return False
 
+    def wall_fits(bay: float) -> bool:
+        """Less room behind the motors leaves the wall less room ahead of the bay guide (the other refusal here)."""
+        try:
+            return wall_room_mm(replace_key(p, key, bay)) >= 0.0
+        except Exception:  # noqa: BLE001 - as above
+            return False
+
     lo, hi = math.ceil(lo_key * 2.0) / 2.0, math.floor(have * 2.0) / 2.0 - 0.5
-    fix = None
+    found = None
     if lo <= hi and clear(lo):
         while hi - lo > 0.25:          # the largest half millimetre that clears
             mid = math.floor((lo + hi) / 2.0 * 2.0) / 2.0
             if mid <= lo:
                 mid = lo + 0.5
             lo, hi = (mid, hi) if clear(mid) else (lo, mid - 0.5)
-        fix = f"at most {lo:g} mm behind the motors (the motors nearer joint 1 keep the cables higher at the wall)"
+        found = lo
+    if found is not None and wall_fits(found):     # the wall's room only grows with the motors further forward
+        fix = f"at most {found:g} mm behind the motors (the motors nearer joint 1 keep the cables higher at the wall)"
+    elif found is not None and wall_room_mm(replace_key(p, key, found)) + p.hull.cable_gland_length_mm >= 2.0:
+        most = math.floor((wall_room_mm(replace_key(p, key, found)) + p.hull.cable_gland_length_mm) * 2.0) / 2.0
+        fix = (f"at most {found:g} mm behind the motors (the motors nearer joint 1 keep the cables higher at the "
+               f"wall), where the wall has room for glands of at most {most:g} mm (hull.cable_gland_length_mm)")
     else:
-        fix = "no room behind the motors clears it: move joint 1 (joints.stations_fraction) or the cable levels"
+        fix = ("no room behind the motors clears it and leaves the wall its room ahead of the bay guide: the cables "
+               "fall toward their levels on joint 1's hinge line, which lie about the seam plane; a wall further from "
+               "that hinge line keeps them higher (larger stop angles widen the joint's gap: joints.stop_margin_deg)")
     band = seam_band_mm(p)
     d = seam_clearance_mm(p, worst)
     how = f"reaches {-d:.2f} mm into" if d < 0 else f"keeps only {d:.2f} mm from"

@@ -441,7 +441,8 @@ def test_more_room_behind_the_motors_lets_the_dry_wall_grow():
                                          r"15\.5 mm, or more room behind the motors \(hull.drive_bay_length_mm = 45\)"):
         _with(p, {"hull.cable_gland_length_mm": 16.0})
     with pytest.raises(ParamError, match=r"hull\.drive_bay_length_mm = 50\.0: gland_2_right's PTFE tube .* reaches "
-                                         r"0\.10 mm into the seam gasket's band .* at most 45\.5 mm behind the motors"):
+                                         r"0\.10 mm into the seam gasket's band .* at most 45\.5 mm behind the motors .*, where "
+                                         r"the wall has room for glands of at most 16 mm"):
         _with(p, {"hull.drive_bay_length_mm": 50.0, "hull.cable_gland_length_mm": 20.0})
     q = _with(p, ROOM_BEHIND_THE_MOTORS)
     assert joint_stations_mm(q) == joint_stations_mm(p)
