@@ -86,8 +86,10 @@ REMOVAL: tuple[tuple[str, tuple[str, ...], str], ...] = (
      "into the head's lower halves"),
     (r"cradle_.+", ("+z",), "Bond the components' cradles into the head's lower halves with epoxy (cad/cradle.py)"),
     (r"hull_head_.+", ("-z", "+z"), "Lay out the head's lower halves and join their splices"),
-    (r"joint_link_\d+", ("+z", "+x", "-x"), "Fit the joint link into the clevis ahead, press in the hinge pins and "
-     "drive the plugs; bolt the link's flange to its segment's front bulkhead"),
+    (r"joint_link_\d+", ("+z", "+x", "-x"), "Round the edges of the joint link's pass-through holes on its hinge "
+     "line with a deburring tool, as far as the link allows (the cables of the joints behind turn round them: "
+     "rule physics.hinge_bend); fit it into the clevis ahead, press in the hinge pins and drive the plugs; bolt the "
+     "link's flange to its segment's front bulkhead"),
     (r"hull_.+_upper", ("+z",), "Close the segment with its upper half"),
     (r"hull_.+", ("-z", "+z", "-x", "+x"), "Lay out the segment's lower half"),
     (r".+", (), "Fit"),

@@ -67,7 +67,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from swiftfin.cad.assembly import Placed, chain_transform, link_transform
+from swiftfin.cad.assembly import Placed, link_transform
 from swiftfin.layout.guide_plan import arc_points, bend_channel, channel_centre_lines, guide_blocks, inside_block
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
@@ -295,20 +295,6 @@ def tube_runs(p: Params) -> tuple[TubeRun, ...]:
 
 
 # ----------------------------------------------------------------------------------------------- bends
-def _turn_deg_over_range(p: Params, a, b, c, joint: int) -> float:
-    """Largest turn at b of a -> b (fixed, link ahead) -> c (turning with ``joint``) over the joint's range [rad]."""
-    u = np.subtract(b, a)
-    u = u / np.linalg.norm(u)
-    stop = L.joint_stop_angles_rad(p)[joint - 1]
-    worst = 0.0
-    for th in np.linspace(-stop, stop, 41):
-        m = chain_transform(p, joint, joint, {joint: float(th)})
-        v = m[:3, :3] @ np.subtract(c, b)
-        v = v / np.linalg.norm(v)
-        worst = max(worst, math.acos(max(-1.0, min(1.0, float(u @ v)))))
-    return worst
-
-
 def _circumradii(pts: np.ndarray) -> np.ndarray:
     """Radius of the circle through each three consecutive points (inf on a straight stretch)."""
     a, b, c = pts[:-2], pts[1:-1], pts[2:]
@@ -327,6 +313,7 @@ def cable_bends(p: Params, pieces=None, tubes=None) -> tuple[CableBend, ...]:
     lim_t = p.guides.min_bend_radius_mm
     ride = (p.guides.ptfe_tube_id_mm - p.cable.diameter_mm) / 2
     hw = {h.joint: h for h in all_joint_hardware(p)}
+    turns = {(c.label, c.point_mm): c.worst_rad for c in L.hinge_crossings(p)}     # over the joint's range
     out = []
     for route in L.cable_routes(p):
         J, side = route.joint + 1, route.side
@@ -338,8 +325,7 @@ def cable_bends(p: Params, pieces=None, tubes=None) -> tuple[CableBend, ...]:
                                      bend.point_mm))
             else:
                 lead = float(getattr(hw[bend.link], "lead_radius_mm", 0.0) or 0.0)
-                ang = _turn_deg_over_range(p, pts[k - 1], pts[k], pts[k + 1], bend.link)
-                out.append(CableBend(name, "hinge", ang, lead, lim_c, bend.point_mm))
+                out.append(CableBend(name, "hinge", turns[name, tuple(pts[k])], lead, lim_c, bend.point_mm))
         h = hw[J]
         z = h.own_levels_mm[0 if side > 0 else 1]
         out.append(CableBend(name, "sector", math.radians(h.anchor_deg - side * h.tangent_deg[0 if side > 0 else 1]),

@@ -283,6 +283,40 @@ def fin_root(ctx: RuleContext) -> Finding:
                           f"MPa x {ps.sustained_fraction:g} (catalogues/printed_strength.toml); {ctx.load_note}")
 
 
+HINGE_BEND_SOURCE = ("the cable's least bend radius rules.drum_to_cable_min x cable.diameter_mm / 2 (the paper's drum "
+                     "rule); where a cable crosses a hinge line it turns round the edge of the link's pass-through "
+                     "hole (layout.geometry.hinge_crossings)")
+
+
+def hinge_bend(ctx: RuleContext) -> Finding:
+    """``physics.hinge_bend``: where a cable crosses the hinge line of a joint it does not drive (on the axis, out of
+    the pass-through hole of the link ahead into the one behind), it turns by its route's angle there plus up to the
+    joint's stop, round the edge of the hole, which has no lead radius (0 mm; ``JointHardware.lead_radius_mm`` where
+    one is declared) against the cable's least bend radius. WARN, not FAIL: no key of the design can give the edge a
+    lead today (a lead alone couples the joints and slackens the pairs: README, *Cables and tubes*), and a FAIL would
+    refuse every design of two joints or more, leaving ``swiftfin solve`` nothing to find; the builder is told to
+    round the holes' edges. Not evaluated with one joint (no cable crosses a hinge line)."""
+    from swiftfin.layout.geometry import hinge_crossings
+    from swiftfin.layout.joints import all_joint_hardware
+    p = ctx.p
+    limit = p.rules.drum_to_cable_min * p.cable.diameter_mm / 2
+    crossings = hinge_crossings(p)
+    if not crossings:
+        return not_evaluated("physics.hinge_bend", HINGE_BEND_SOURCE, "one joint: no cable crosses a hinge line",
+                             unit="mm")
+    hw = {h.joint: h for h in all_joint_hardware(p)}
+    lead = {j: float(getattr(h, "lead_radius_mm", 0.0) or 0.0) for j, h in hw.items()}
+    worst = min(crossings, key=lambda c: (lead[c.joint], -c.worst_rad))
+    short = [c for c in crossings if lead[c.joint] < limit]
+    turns = [math.degrees(c.worst_rad) for c in short] or [0.0]
+    return at_least("physics.hinge_bend", lead[worst.joint], limit, HINGE_BEND_SOURCE, unit="mm",
+                    detail=f"{len(short)} of {len(crossings)} hinge-line crossings turn the cable by "
+                           f"{min(turns):.1f}-{max(turns):.1f} deg over the joints' range round an edge of "
+                           f"{lead[worst.joint]:g} mm radius (the worst: {worst.label} at joint {worst.joint}, "
+                           f"{math.degrees(worst.worst_rad):.1f} deg); round the pass-through holes' edges as far "
+                           f"as the links allow, and expect wear there", below=Severity.WARN)
+
+
 # ----------------------------------------------------------------------------------------------- printing
 def _wall(rule_id: str, thickness_mm: float, what: str):
     def rule(ctx: RuleContext) -> Finding:
@@ -723,6 +757,7 @@ RULES: list[Rule] = [
     Rule("physics.cable_compliance", "physics", cable_compliance),
     Rule("physics.strouhal", "physics", strouhal_band),
     Rule("physics.fin_root", "physics", fin_root),
+    Rule("physics.hinge_bend", "physics", hinge_bend),
     Rule("print.hull_wall", "print", _wall("print.hull_wall", lambda p: p.hull.wall_thickness_mm, "hull wall")),
     Rule("print.fin_min_thickness", "print",
          _wall("print.fin_min_thickness", lambda p: p.caudal_fin.min_thickness_mm, "fin's thinnest section")),

@@ -1284,6 +1284,11 @@ def _evaluate_group(cols: dict, n: int, mass: MassPropertyArrays | None, work: d
     for name in set(mats.tolist()):
         allow[mats == name] = printed_strength(name).bending_allowable_mpa
     out.at_most("physics.fin_root", g.fin_root_nm * 1e3 / (g.H * w_end * thick**2 / 6.0), allow)
+    # design_rules.rules.hinge_bend: no joint hardware declares a lead radius, so every crossing's edge is 0 mm
+    out.at_least("physics.hinge_bend", np.zeros(g.N), c("rules.drum_to_cable_min") * c("cable.diameter_mm") / 2,
+                 below=Severity.WARN)
+    if n == 1:
+        out.not_evaluated("physics.hinge_bend", slice(None))
     bed, _ = g.bed_fit()
     out.at_least("print.bed_fit", bed, 1.0)
     air, case, limit, total_w = g.heat()

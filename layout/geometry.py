@@ -622,6 +622,47 @@ def cable_routes(p: Params) -> tuple[CableRoute, ...]:
 
 
 # ----------------------------------------------------------------------------------------------- feasibility
+HINGE_TURN_SAMPLES = 41
+"""Joint angles, from stop to stop, at which a hinge crossing's turn is taken (:func:`hinge_crossings`)."""
+
+
+@dataclass(frozen=True)
+class HingeCrossing:
+    """Where a cable crosses the hinge line of a joint it does not drive: on the axis, out of the pass-through hole
+    of the link ahead (fixed) into the one behind (turning with the joint)."""
+    label: str                   # cable_<joint>_<left|right>
+    joint: int                   # the hinge's joint (1-based)
+    point_mm: tuple              # on the hinge axis (body frame, at rest)
+    rest_rad: float              # the route's turn there at rest
+    worst_rad: float             # the largest turn over the joint's range (its stops)
+
+
+@functools.lru_cache(maxsize=64)
+def hinge_crossings(p: Params) -> tuple[HingeCrossing, ...]:
+    """Every cable's hinge-line crossings (:func:`cable_routes`, bends of kind ``hinge``) with the largest turn over
+    the joint's range: the incoming segment fixed in the link ahead, the outgoing one turned about the vertical hinge
+    axis by every one of :data:`HINGE_TURN_SAMPLES` angles from stop to stop."""
+    stops = joint_stop_angles_rad(p)
+    out = []
+    for r in cable_routes(p):
+        pts = r.points_mm
+        for k, b in enumerate(r.bends, start=1):
+            if b.kind != "hinge":
+                continue
+            u = np.subtract(pts[k], pts[k - 1])
+            u = u / np.linalg.norm(u)
+            v0 = np.subtract(pts[k + 1], pts[k])
+            v0 = v0 / np.linalg.norm(v0)
+            worst = 0.0
+            for th in np.linspace(-stops[b.link - 1], stops[b.link - 1], HINGE_TURN_SAMPLES):
+                c, s = math.cos(-th), math.sin(-th)
+                v = np.array([c * v0[0] - s * v0[1], s * v0[0] + c * v0[1], v0[2]])
+                worst = max(worst, math.acos(max(-1.0, min(1.0, float(u @ v)))))
+            out.append(HingeCrossing(f"cable_{r.joint + 1}_{'left' if r.side > 0 else 'right'}", b.link,
+                                     tuple(pts[k]), b.angle_rad, worst))
+    return tuple(out)
+
+
 def layout_problems(p: Params) -> list[Problem]:
     """Geometric impossibilities of a schema-valid design: parts that cannot fit in the hull."""
     out: list[Problem] = []

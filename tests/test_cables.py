@@ -174,6 +174,47 @@ def test_hinge_bend_is_the_rest_angle_plus_at_most_the_stop():
         assert a0 - 1e-9 <= b.angle_rad <= a0 + stops[k - 1] + 1e-9
 
 
+def test_hinge_turns_over_the_range_by_the_chain_of_joint_transforms():
+    """``layout.geometry.hinge_crossings`` (the rule's and the bends' numbers) against the assembly's own joint
+    motion: the outgoing segment moved by ``cad.assembly.chain_transform`` at each of the 41 angles from stop to stop
+    (what cad/cables.py computed itself until 2026-12-07)."""
+    from swiftfin.cad.assembly import chain_transform
+    stops = L.joint_stop_angles_rad(P)
+    crossings = {(c.label, c.point_mm): c for c in L.hinge_crossings(P)}
+    n = 0
+    for r in L.cable_routes(P):
+        pts = r.points_mm
+        for k, b in enumerate(r.bends, start=1):
+            if b.kind != "hinge":
+                continue
+            u = np.subtract(pts[k], pts[k - 1])
+            u = u / np.linalg.norm(u)
+            worst = 0.0
+            for th in np.linspace(-stops[b.link - 1], stops[b.link - 1], 41):
+                v = chain_transform(P, b.link, b.link, {b.link: float(th)})[:3, :3] @ np.subtract(pts[k + 1], pts[k])
+                worst = max(worst, math.acos(min(1.0, float(u @ v) / float(np.linalg.norm(v)))))
+            c = crossings[f"cable_{r.joint + 1}_{'left' if r.side > 0 else 'right'}", tuple(pts[k])]
+            assert c.joint == b.link and c.rest_rad == b.angle_rad
+            assert c.worst_rad == pytest.approx(worst, abs=1e-12)
+            n += 1
+    assert n == len(crossings) == 12
+
+
+def test_check_says_the_hinge_crossings_bend_round_a_sharp_edge():
+    """``swiftfin check`` reports what the expected failure below measures (the build had hidden it): the default's
+    12 crossings turn the cable 15.9-77.1 deg round an edge of 0 mm radius where it needs 10 mm; WARN (no key can
+    give the edge a lead, and a FAIL would fail every design of two joints or more). One joint: nothing crosses."""
+    from swiftfin.design_rules import RuleContext, Severity, run_rules
+    f = next(f for f in run_rules(RuleContext(P)) if f.rule_id == "physics.hinge_bend")
+    assert f.severity == Severity.WARN and f.value == 0.0 and f.limit == pytest.approx(10.0)
+    assert f.detail.startswith("12 of 12 hinge-line crossings turn the cable by 15.9-77.1 deg"), f.detail
+    assert "cable_2_right at joint 1, 77.1 deg" in f.detail
+    one = dataclasses.replace(P, joints=dataclasses.replace(P.joints, count=1, stations_fraction=(0.6,)))
+    assert L.hinge_crossings(one) == ()
+    from swiftfin.design_rules.rules import hinge_bend
+    assert hinge_bend(RuleContext(one)).severity == Severity.NOT_EVALUATED
+
+
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
     "Today (re-measured 2026-11-30) every hinge-line crossing turns the cable round the sharp edge of the link's "
     "pass-through hole (radius 0, no lead): 12 bends of 15.9-77.1 deg over the range (joint 2's cables 77.1 deg at "
