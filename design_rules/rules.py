@@ -291,21 +291,22 @@ HINGE_BEND_SOURCE = ("the cable's least bend radius rules.drum_to_cable_min x ca
 def hinge_bend(ctx: RuleContext) -> Finding:
     """``physics.hinge_bend``: where a cable crosses the hinge line of a joint it does not drive (on the axis, out of
     the pass-through hole of the link ahead into the one behind), it turns by its route's angle there plus up to the
-    joint's stop, round the edge of the hole, which has no lead radius (0 mm; ``JointHardware.lead_radius_mm`` where
-    one is declared) against the cable's least bend radius. WARN, not FAIL: no key of the design can give the edge a
+    joint's stop, round the edge of the hole, which has no lead radius (0 mm: no joint hardware declares one)
+    against the cable's least bend radius. WARN, not FAIL: no key of the design can give the edge a
     lead today (a lead alone couples the joints and slackens the pairs: README, *Cables and tubes*), and a FAIL would
     refuse every design of two joints or more, leaving ``swiftfin solve`` nothing to find; the builder is told to
     round the holes' edges. Not evaluated with one joint (no cable crosses a hinge line)."""
     from swiftfin.layout.geometry import hinge_crossings
-    from swiftfin.layout.joints import all_joint_hardware
     p = ctx.p
     limit = p.rules.drum_to_cable_min * p.cable.diameter_mm / 2
     crossings = hinge_crossings(p)
     if not crossings:
         return not_evaluated("physics.hinge_bend", HINGE_BEND_SOURCE, "one joint: no cable crosses a hinge line",
                              unit="mm")
-    hw = {h.joint: h for h in all_joint_hardware(p)}
-    lead = {j: float(getattr(h, "lead_radius_mm", 0.0) or 0.0) for j, h in hw.items()}
+    # no joint's hardware has a lead radius (layout/joints.py: JointHardware declares none; cad/cables.py reads one
+    # where it would): every crossing's edge is sharp. Read without the hardware, which a design the loader refuses
+    # may not have (the rules run on such designs too: the vectorised twin's fallback)
+    lead = {c.joint: 0.0 for c in crossings}
     worst = min(crossings, key=lambda c: (lead[c.joint], -c.worst_rad))
     short = [c for c in crossings if lead[c.joint] < limit]
     turns = [math.degrees(c.worst_rad) for c in short] or [0.0]
