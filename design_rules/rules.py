@@ -306,14 +306,13 @@ def hinge_bend(ctx: RuleContext) -> Finding:
     # no joint's hardware has a lead radius (layout/joints.py: JointHardware declares none; cad/cables.py reads one
     # where it would): every crossing's edge is sharp. Read without the hardware, which a design the loader refuses
     # may not have (the rules run on such designs too: the vectorised twin's fallback)
-    lead = {c.joint: 0.0 for c in crossings}
-    worst = min(crossings, key=lambda c: (lead[c.joint], -c.worst_rad))
-    short = [c for c in crossings if lead[c.joint] < limit]
-    turns = [math.degrees(c.worst_rad) for c in short] or [0.0]
-    return at_least("physics.hinge_bend", lead[worst.joint], limit, HINGE_BEND_SOURCE, unit="mm",
-                    detail=f"{len(short)} of {len(crossings)} hinge-line crossings turn the cable by "
+    lead_mm = 0.0
+    worst = max(crossings, key=lambda c: c.worst_rad)
+    turns = [math.degrees(c.worst_rad) for c in crossings]
+    return at_least("physics.hinge_bend", lead_mm, limit, HINGE_BEND_SOURCE, unit="mm",
+                    detail=f"{len(crossings)} of {len(crossings)} hinge-line crossings turn the cable by "
                            f"{min(turns):.1f}-{max(turns):.1f} deg over the joints' range round an edge of "
-                           f"{lead[worst.joint]:g} mm radius (the worst: {worst.label} at joint {worst.joint}, "
+                           f"{lead_mm:g} mm radius (the worst: {worst.label} at joint {worst.joint}, "
                            f"{math.degrees(worst.worst_rad):.1f} deg); round the pass-through holes' edges as far "
                            f"as the links allow, and expect wear there", below=Severity.WARN)
 

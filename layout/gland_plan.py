@@ -253,20 +253,14 @@ def _seam_problem(p: Params, glands) -> str | None:
     if worst is None or seam_clearance_mm(p, worst) >= c:
         return None
     key, have = "hull.drive_bay_length_mm", p.hull.drive_bay_length_mm
-    lo_key = next(f.metadata for f in fields(Hull) if f.name == "drive_bay_length_mm")["lo"]
+    meta = {f.name: f.metadata for f in fields(Hull)}
+    lo_key, gland_lo = meta["drive_bay_length_mm"]["lo"], meta["cable_gland_length_mm"]["lo"]
 
     def clear(bay: float) -> bool:
         try:
             q = replace_key(p, key, bay)
             return all(seam_clearance_mm(q, g) >= c for g in cable_glands(q))
         except Exception:  # noqa: BLE001 - a layout the loader's other checks refuse there: not a way out
-            return False
-
-    def wall_fits(bay: float) -> bool:
-        """Less room behind the motors leaves the wall less room ahead of the bay guide (the other refusal here)."""
-        try:
-            return wall_room_mm(replace_key(p, key, bay)) >= 0.0
-        except Exception:  # noqa: BLE001 - as above
             return False
 
     lo, hi = math.ceil(lo_key * 2.0) / 2.0, math.floor(have * 2.0) / 2.0 - 0.5
@@ -278,10 +272,18 @@ def _seam_problem(p: Params, glands) -> str | None:
                 mid = lo + 0.5
             lo, hi = (mid, hi) if clear(mid) else (lo, mid - 0.5)
         found = lo
-    if found is not None and wall_fits(found):     # the wall's room only grows with the motors further forward
+    # less room behind the motors leaves the wall less room ahead of the bay guide (the other refusal here); the
+    # wall's room only grows with the motors further forward, so the bound found is the one to try
+    room = -math.inf
+    if found is not None:
+        try:
+            room = wall_room_mm(replace_key(p, key, found))
+        except Exception:  # noqa: BLE001 - as above
+            pass
+    if room >= 0.0:
         fix = f"at most {found:g} mm behind the motors (the motors nearer joint 1 keep the cables higher at the wall)"
-    elif found is not None and wall_room_mm(replace_key(p, key, found)) + p.hull.cable_gland_length_mm >= 2.0:
-        most = math.floor((wall_room_mm(replace_key(p, key, found)) + p.hull.cable_gland_length_mm) * 2.0) / 2.0
+    elif room + p.hull.cable_gland_length_mm >= gland_lo:
+        most = math.floor((room + p.hull.cable_gland_length_mm) * 2.0) / 2.0
         fix = (f"at most {found:g} mm behind the motors (the motors nearer joint 1 keep the cables higher at the "
                f"wall), where the wall has room for glands of at most {most:g} mm (hull.cable_gland_length_mm)")
     else:
