@@ -54,6 +54,7 @@ from functools import cache
 
 import numpy as np
 
+from swiftfin.catalogues.fasteners import screw_sizes
 from swiftfin.catalogues.materials import material
 from swiftfin.catalogues.printed_strength import printed_strength
 from swiftfin.catalogues.seals import cable_gland, seam_gap_tolerance_mm, seam_gasket
@@ -64,7 +65,8 @@ from swiftfin.design_rules.rules import (MIN_GUIDE_BEND_RAD, MOTOR_CASE_AREA_FAC
 from swiftfin.layout import loads as _loads
 from swiftfin.layout.geometry import (BAY_AFTER_DROP_RADII, BAY_ARC_ALLOWANCE_LINES, LANE_DROP_PITCHES,
                                       MIN_TUBE_MM, MIN_WEB_LINES, MOTOR_PITCH_GAP_MM, RISE_MAX_PITCHES,
-                                      crossing_rise_mm)
+                                      crossing_rise_mm, plug_screw_size, LUG_GAP_MARGIN_MM)
+from swiftfin.layout.fastening import WALL_PROBE_INSET_MM
 from swiftfin.layout.gland_plan import passage_bore
 from swiftfin.layout.hull_plan import SPLICE_LENGTH_MM
 from swiftfin.layout.mount_plan import FIXING_SPREAD_FRACTION
@@ -623,7 +625,14 @@ class _Group:
         self.hend = c("body.hull_end_fraction") * L_mm
         self.stop = self.joint_max_angles() + np.radians(c("joints.stop_margin_deg"))
         w = _naca_w(self.js, L_mm, self.t_naca)
-        gap = w * np.sin(self.stop) + 2.0 * c("print.clearance_assembly_mm") + c("hull.wall_thickness_mm")
+        ca, lw = c("print.clearance_assembly_mm"), c("print.line_width_mm")
+        pin = c("joints.pin_diameter_mm")
+        plugs = {d: plug_screw_size(d) or screw_sizes()[-1] for d in np.unique(pin)}
+        boss_od = np.vectorize(lambda d, w_: plugs[d].insert_boss_od_mm(w_))(pin, lw)
+        column = np.maximum(pin / 2 + c("print.clearance_sliding_mm") + np.maximum(2.0, 4 * lw),
+                            boss_od / 2 + 2 * WALL_PROBE_INSET_MM)
+        gap = np.maximum(w * np.sin(self.stop) + 2.0 * ca + c("hull.wall_thickness_mm"),
+                         2.0 * (column + ca + LUG_GAP_MARGIN_MM))   # layout.geometry.joint_gaps_mm
         self.seg_start = np.concatenate([np.zeros((1, N)), self.js + gap / 2], axis=0)       # (n+1, N) hull segs
         self.seg_end = np.concatenate([self.js - gap / 2, self.hend[None]], axis=0)
         # spool (layout.geometry.spool_dims)

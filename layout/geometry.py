@@ -32,6 +32,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
+from swiftfin.catalogues.fasteners import ScrewSize, screw_sizes
 from swiftfin.physics.kinematics import max_relative_joint_angles_rad, wave_from_params
 from swiftfin.core.params import Problem
 from swiftfin.core.schema import Body, Params
@@ -105,15 +106,51 @@ def joint_stop_angles_rad(p: Params) -> tuple[float, ...]:
     return tuple(a + m for a in joint_max_angles_rad(p))
 
 
-def joint_gaps_mm(p: Params) -> tuple[float, ...]:
-    """Axial gap between the hull segments at each joint, wide enough for the stop angle.
+LUG_GAP_MARGIN_MM = 0.01
+"""Added to the assembly clearance between a joint's lugs and the child's front face: the assembly check reads the gap
+on float32 meshes (the lugs' polygons lie inside their circles, the face is flat), and at exactly the clearance it
+read 0.500 < 0.5 mm (2026-12-07)."""
 
-    The child's shell corner at half-width w swings forward by about w sin(theta) when the joint turns.
+
+def plug_screw_size(pin_diameter_mm: float) -> ScrewSize | None:
+    """The smallest thread whose insert's hole clears the pin, so that the reamer passes the empty pocket when the
+    two lug bores are line-reamed in one pass (the insert goes in after)."""
+    return next((s for s in screw_sizes() if s.insert_hole_mm > pin_diameter_mm + 0.1), None)
+
+
+def knuckle_radius_mm(p: Params) -> float:
+    """Radius of a hinge's knuckle round its pin, and of the parent's lugs (:mod:`swiftfin.layout.joints`): the pin,
+    the sliding clearance and a wall of four line widths (2 mm at least)."""
+    return p.joints.pin_diameter_mm / 2 + p.print.clearance_sliding_mm + max(2.0, 4 * p.print.line_width_mm)
+
+
+def hinge_column_radius_mm(p: Params) -> float:
+    """Radius of what the parent holds round a hinge's axis as whole cylinders: its two lugs and the bosses beyond
+    them that hold the pins' plug inserts (:mod:`swiftfin.layout.joints`). The child's front face stays this far
+    (and the assembly clearance) from the axis at every angle. A boss keeps the fastener check's wall round its
+    insert and twice the check's probe inset (:data:`~swiftfin.layout.fastening.WALL_PROBE_INSET_MM`, as the link
+    flanges' rows do): at the bare least the check read 2.47 mm of the 2.52 an M4 insert's maker asks (5 mm pins,
+    2026-12-07). With no insert wide enough for the pin (the joints' plan refuses that) the largest."""
+    from swiftfin.layout.fastening import WALL_PROBE_INSET_MM
+    plug = plug_screw_size(p.joints.pin_diameter_mm) or screw_sizes()[-1]
+    return max(knuckle_radius_mm(p), plug.insert_boss_od_mm(p.print.line_width_mm) / 2 + 2 * WALL_PROBE_INSET_MM)
+
+
+def joint_gaps_mm(p: Params) -> tuple[float, ...]:
+    """Axial gap between the hull segments at each joint, wide enough for the stop angle, and never so narrow that
+    the child's front face meets the parent's lugs.
+
+    The child's shell corner at half-width w swings forward by about w sin(theta) when the joint turns. The parent's
+    lugs and plug bosses are cylinders round the axis (:func:`hinge_column_radius_mm`) whatever the angle: each half
+    of the gap holds one and the assembly clearance (and :data:`LUG_GAP_MARGIN_MM`). A gentle gait (1 Hz, 2 cm: stops of 7-12 deg) left 3.1-4.1 mm
+    half gaps round 3.8 mm lugs, and its build failed at the end (2026-12-07: hull_body_1's lugs 0.5 mm into
+    hull_body_2's front bulkhead, 25 mm^3).
     """
+    floor = 2.0 * (hinge_column_radius_mm(p) + p.print.clearance_assembly_mm + LUG_GAP_MARGIN_MM)
     out = []
     for s, th in zip(joint_stations_mm(p), joint_stop_angles_rad(p)):
         w = float(naca_half_width_mm(p, s))
-        out.append(w * math.sin(th) + 2.0 * p.print.clearance_assembly_mm + p.hull.wall_thickness_mm)
+        out.append(max(w * math.sin(th) + 2.0 * p.print.clearance_assembly_mm + p.hull.wall_thickness_mm, floor))
     return tuple(out)
 
 

@@ -239,12 +239,6 @@ def cable_crossings(p: Params, j: int) -> tuple[CableCrossing, ...]:
     return tuple(sorted(out, key=lambda cr: cr.point_mm[2]))
 
 
-def plug_screw_size(pin_diameter_mm: float) -> ScrewSize | None:
-    """The smallest thread whose insert's hole clears the pin, so that the reamer passes the empty pocket when the
-    two lug bores are line-reamed in one pass (the insert goes in after)."""
-    return next((s for s in screw_sizes() if s.insert_hole_mm > pin_diameter_mm + 0.1), None)
-
-
 def _pin(where: str, d: float, lug: tuple, link_span: tuple, inner_limit: float, plug: ScrewSize,
          boss_r: float, problems: list, j: int) -> HingePin:
     """The longest catalogue pin from its lug's outer face (or up to PIN_PROTRUDE_MAX_MM past it) to
@@ -301,14 +295,14 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
     d = p.joints.pin_diameter_mm
     pin = dowel(d)
     rb = (d - pin.ream_stock_mm) / 2
-    rk = d / 2 + cs + max(2.0, 4 * lw)
+    rk = L.knuckle_radius_mm(p)
     rl = rk
-    plug = plug_screw_size(d)
+    plug = L.plug_screw_size(d)
     if plug is None:
         problems.append(Problem("joints.pin_diameter_mm", d, f"no insert in catalogues/fasteners.toml has a hole wider "
                                                              f"than a {d:g} mm pin (the line reamer must pass it)"))
         plug = screw_sizes()[-1]
-    boss_r = max(rl, plug.insert_boss_od_mm(lw) / 2)
+    boss_r = L.hinge_column_radius_mm(p)      # the lugs' and bosses' column, which the joint's gap clears
     # blind link bores end a web short of the nearest pass-through hole (the cutters overrun the pin's end)
     z_bore_lo = min(z_win_lo, crossing[0] - hr - web) if crossing else z_win_lo
     z_bore_hi = max(z_sec_lo, crossing[-1] + hr + web) if crossing else z_sec_lo
