@@ -38,7 +38,8 @@ class Problem:
 
     def __str__(self) -> str:
         try:
-            v = "(missing)" if self.value is _MISSING else repr(self.value)
+            v = ("(missing)" if self.value is _MISSING else str(self.value).lower() if isinstance(self.value, bool)
+                 else repr(self.value))             # a bool as the parameter file spells it
         except ValueError:      # an integer past Python's digit limit for str()
             v = f"<an integer of about {self.value.bit_length() * 0.30103:.0f} digits>"
         if len(v) > 80:
@@ -270,6 +271,12 @@ def cross_field_problems(p: Params) -> list[Problem]:
         out.append(Problem("joints.stations_fraction", list(st),
                            f"the last joint must lie ahead of the hull end (body.hull_end_fraction = "
                            f"{p.body.hull_end_fraction:g}, allowed {_range_text(_meta(Body, 'hull_end_fraction'))})"))
+    if not p.hull.split_halves:
+        out.append(Problem("hull.split_halves", False,
+                           "expected true: a hull printed whole closes the head round its motors, spools, guides, "
+                           "battery and boards, and no driver reaches their screws (the default design built whole, "
+                           "2026-12-07: 26 of them enclosed, the build refused at its end); the head opens, and is "
+                           "sealed, at the seam between its halves"))
     if p.hull.flooded_from_joint > j.count + 1:
         out.append(Problem("hull.flooded_from_joint", p.hull.flooded_from_joint,
                            f"must be a joint 1..{j.count}, or {j.count + 1} for a hull sealed throughout "

@@ -76,7 +76,8 @@ class Hull:
     loft_stations: int = p(9, 4, 40, "Cross-sections per hull segment used by the loft",
                            "Engineering default (hull half-width error < 0.05 mm at 9)")
     split_halves: bool = p(True, doc="Split each hull segment into upper and lower halves at z = 0 "
-                                     "(flat print face, assembly access)", source="Engineering default")
+                                     "(flat print face, assembly access); false is refused: a whole head "
+                                     "encloses the screws of its motors and spools", source="Engineering default")
     screw_diameter_mm: float = p(2.0, min(SCREWS), max(SCREWS), "Screws joining hull halves and bulkheads (M2)",
                                  "Engineering default; sizes of catalogues/fasteners.toml", choices=SCREWS)
     flooded_from_joint: int = p(1, 1, 9, "Hull segments behind this joint are free-flooding: water enters through "

@@ -1588,7 +1588,8 @@ def seeded_designs(n: int, seed: int = 16, check_layout: bool = True, max_draws:
         d["body"].update(length_mm=u(420, 700), naca_thickness_fraction=u(0.12, 0.20), height_to_width=u(1.2, 2.0),
                          nose_cap_fraction=u(0.02, 0.06), hull_end_fraction=u(0.88, 0.95))
         d["hull"].update(wall_thickness_mm=u(1.2, 3.0), bulkhead_thickness_mm=u(2, 4),
-                         split_halves=bool(rng.random() < 0.7), flooded_from_joint=1)
+                         split_halves=True, flooded_from_joint=1)
+        rng.random()                # (drawn as the split once was: a whole hull is refused, core/params.py)
         rng.integers(1, k + 2)      # (drawn as the sealed joint once was: the stream stays as it was; only the
         #                             head can be sealed, core/params.py)
         rates = np.unique(np.sort(u(0, 9000, int(rng.integers(4, 8)))) * u(0.5, 2.0))

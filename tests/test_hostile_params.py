@@ -80,7 +80,7 @@ CASES = [
     # --- wrong types
     case("[body]\nlength_mm = \"520\"\n", 2, "body.length_mm = '520': expected a number in [200, 2000]",
          id="string-for-number"),
-    case("[body]\nlength_mm = true\n", 2, "body.length_mm = True: expected a number", id="bool-for-number"),
+    case("[body]\nlength_mm = true\n", 2, "body.length_mm = true: expected a number", id="bool-for-number"),
     case("body = [1, 2]\n", 2, "body = [1, 2]: expected a table of keys", id="list-for-table"),
     case("[[body]]\nlength_mm = 520\n", 2, "body = [{'length_mm': 520}]: expected a table of keys",
          id="array-of-tables-for-table"),

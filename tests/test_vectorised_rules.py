@@ -244,7 +244,7 @@ def test_a_design_beyond_the_fast_path_goes_to_the_per_design_code():
 def test_designs_of_every_joint_count_in_one_call():
     """One call with designs of 1 to 5 joints (grouped by count inside), in an order that mixes them."""
     one = _design(joints={"count": 1, "stations_fraction": [0.6]}, environment={"flotation_foam_segments": 1})
-    designs = [one] + seeded_designs(12, seed=11) + [one]      # 2, 4 and 5 joints among the twelve
+    designs = [one] + seeded_designs(12, seed=14) + [one]      # 2, 3, 4 and 5 joints among the twelve
     assert len({p.joints.count for p in designs}) >= 4
     compared, bad, refused = compare(designs)
     assert compared + refused == len(designs) and not bad, "\n".join(bad)
