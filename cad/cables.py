@@ -25,7 +25,8 @@ along the centre line:
 
 The wraps on the spools' drums are not modelled (they lie in the spool's own groove; cad/spool.py checks it).
 
-**PTFE tubes** (:func:`tube_runs`). Where the design puts a tube:
+**PTFE tubes** (:func:`swiftfin.layout.tube_plan.tube_runs`, numbers the loader also reads: it refuses a tube out
+of the hull). Where the design puts a tube:
 
 * in every **guide channel**, over the stretch of the channel's centre line that lies inside its printed block,
   from the mouth where the channel opens to the tube's seat (:meth:`swiftfin.layout.guide_plan.GuideBlock.tube_seat`):
@@ -56,35 +57,30 @@ rides on the inside of the bend, so its radius is the tube's less ``(tube ID - c
 cable turns by its rest angle plus up to the joint's stop angle round the edge of the link's pass-through hole; a
 printed edge has no radius (0 mm), unless the joint hardware declares one (``JointHardware.lead_radius_mm``).
 
-Meshes (:func:`cable_parts`) are numpy sweeps (no CAD kernel): polygons circumscribed about the circle (the mesh
-contains the true cylinder, so a gap measured on it is never larger than the real one), closed and manifold.
+Meshes (:func:`cable_parts`) are numpy sweeps (:func:`swiftfin.layout.sweep.sweep_mesh`, no CAD kernel): polygons
+circumscribed about the circle (the mesh contains the true cylinder, so a gap measured on it is never larger than the real one), closed and manifold.
 """
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from swiftfin.cad.assembly import Placed, link_transform
-from swiftfin.layout.guide_plan import arc_points, bend_channel, channel_centre_lines, guide_blocks, inside_block
+from swiftfin.layout.guide_plan import bend_channel
 from swiftfin.core.errors import BuildError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L
 from swiftfin.layout.joints import all_joint_hardware
+from swiftfin.layout.sweep import dedupe_points as _dedupe, sweep_mesh
+from swiftfin.layout.tube_plan import (  # noqa: F401 - the tubes' numbers live in layout; named here as before
+    ARC_STEP_DEG, SAMPLE_STEP_MM, SIDE_NAME, TUBE_SIDES, TubeRun, _arc_samples, tube_runs)
 
-SIDE_NAME = {1: "left", -1: "right"}
 
 CABLE_SIDES = 12
 """Polygon sides of a cable's section: circumscribed, its flats lie 3.5 % of the radius (0.02 mm) outside the
 true circle. Engineering default (thin, long meshes keep the assembly check fast)."""
-TUBE_SIDES = 24
-"""Polygon sides of a tube's section (its outer flats 0.9 % outside the true circle, 0.02 mm for a 4 mm tube)."""
-ARC_STEP_DEG = 3.0
-"""Angular step of the sampled arcs (bends, grooves): the chord lies r (1 - cos 1.5 deg) = 3.4e-4 r inside the arc."""
-SAMPLE_STEP_MM = 0.2
-"""Step along a guide channel when finding the stretch inside its block (tube ends within this of the face)."""
 MIN_TUBE_MM = L.MIN_TUBE_MM
 STOP_FILL_FRACTION = 0.5
 """A tube end is seated when at least this fraction of the ring beyond its end is printed material of its own
@@ -102,24 +98,6 @@ class CablePiece:
     kind: str                    # "run", "groove", "anchor"
     points_mm: tuple             # ((x, y, z), ...) smooth centre line
     radius_mm: float
-
-
-@dataclass(frozen=True)
-class TubeRun:
-    """A PTFE tube: centre line (body frame at rest, mm), rigid with ``link``, held by ``holder``."""
-    label: str
-    joint: int
-    side: int
-    link: int
-    kind: str                    # "guide" (in a guide channel), "bulkhead" (in a hull bulkhead hole)
-    holder: str                  # the guide's label, or the hull piece's name (its halves: <name>_upper/_lower)
-    points_mm: tuple
-    od_mm: float
-    id_mm: float
-
-    @property
-    def length_mm(self) -> float:
-        return _length(np.asarray(self.points_mm))
 
 
 @dataclass(frozen=True)
@@ -151,18 +129,9 @@ class CableFinding:
         return f"{self.label}: {self.detail} near ({', '.join(f'{c:.1f}' for c in self.where_mm)}) mm"
 
 
-def _length(pts: np.ndarray) -> float:
-    return float(np.sum(np.linalg.norm(np.diff(pts, axis=0), axis=1))) if len(pts) > 1 else 0.0
-
-
 def cable_min_bend_radius_mm(p: Params) -> float:
     """Least bend radius of the cable: half the paper's least drum diameter (``rules.drum_to_cable_min`` x d)."""
     return p.rules.drum_to_cable_min * p.cable.diameter_mm / 2
-
-
-def _arc_samples(ch) -> np.ndarray:
-    n = max(3, int(math.ceil(math.degrees(ch.angle_rad) / ARC_STEP_DEG)) + 1)
-    return arc_points(ch, n)
 
 
 def _rounded_polyline(pts: list, radius: float, dia: float, joint: int, side: int) -> np.ndarray:
@@ -176,11 +145,6 @@ def _rounded_polyline(pts: list, radius: float, dia: float, joint: int, side: in
             out += list(_arc_samples(ch))
     out.append(np.asarray(pts[-1], float))
     return _dedupe(np.asarray(out))
-
-
-def _dedupe(pts: np.ndarray, eps: float = 1e-6) -> np.ndarray:
-    keep = [0] + [i for i in range(1, len(pts)) if np.linalg.norm(pts[i] - pts[i - 1]) > eps]
-    return pts[keep]
 
 
 def _sector_arc(x_axis: float, radius: float, z: float, a0_deg: float, a1_deg: float) -> np.ndarray:
@@ -221,77 +185,12 @@ def cable_pieces(p: Params) -> tuple[CablePiece, ...]:
     return tuple(out)
 
 
-def _straight_samples(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    n = max(2, int(math.ceil(np.linalg.norm(b - a) / SAMPLE_STEP_MM)) + 1)
-    return a + np.linspace(0, 1, n)[:, None] * (b - a)
-
-
 def _densify(pts: np.ndarray, step: float) -> np.ndarray:
     out = [pts[0]]
     for a, b in zip(pts[:-1], pts[1:]):
         n = max(1, int(math.ceil(np.linalg.norm(b - a) / step)))
         out += list(a + np.linspace(0, 1, n + 1)[1:, None] * (b - a))
     return np.asarray(out)
-
-
-def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    out, start = [], None
-    for i, v in enumerate(mask):
-        if v and start is None:
-            start = i
-        if not v and start is not None:
-            out.append((start, i - 1))
-            start = None
-    if start is not None:
-        out.append((start, len(mask) - 1))
-    return out
-
-
-def _cut_at(pts: np.ndarray, seat: np.ndarray) -> np.ndarray:
-    """The polyline up to ``seat`` (a point on its last straight), ending exactly there."""
-    k = int(np.argmin(np.linalg.norm(pts - seat, axis=1)))
-    d = pts[-1] - pts[-2] if len(pts) > 1 else np.zeros(3)
-    if k > 0 and float((pts[k] - seat) @ d) >= -1e-6:
-        k -= 1       # a sample at (or past) the seat goes: the last segment ends on the seat, never a zero-length one
-    return np.vstack([pts[:k + 1], seat[None, :]])
-
-
-def _suffix(k: int, n: int) -> str:
-    return "" if n == 1 else "_" + "abcdefghijklmnopqrstuvwxyz"[k]
-
-
-@functools.lru_cache(maxsize=64)
-def tube_runs(p: Params) -> tuple[TubeRun, ...]:
-    """Every PTFE tube of the design (see the module docstring): guide channels, then bulkhead holes. Memoised on
-    the params, as :func:`swiftfin.layout.geometry.cable_routes` (a build asks for them five times, 0.3 s each)."""
-    g = p.guides
-    out = []
-    for b in guide_blocks(p):
-        for joint, side, line in channel_centre_lines(b, _arc_samples, _straight_samples):
-            line = _dedupe(line)
-            inside = inside_block(b, line, g.ptfe_tube_od_mm / 2)
-            runs = [(i, k) for i, k in _runs(inside) if _length(line[i:k + 1]) >= MIN_TUBE_MM]
-            seat = b.tube_seat(joint, side)
-            for n, (i, k) in enumerate(runs):
-                pts = line[i:k + 1]
-                if seat is not None and n == len(runs) - 1:     # the last piece ends on the shoulder
-                    pts = _cut_at(pts, np.asarray(seat, float))
-                label = f"tube_{b.label}_{joint}_{SIDE_NAME[side]}{_suffix(n, len(runs))}"
-                out.append(TubeRun(label, joint, side, 0, "guide", b.label, tuple(map(tuple, pts)),
-                                   g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
-    from swiftfin.layout.gland_plan import bulkhead_passages   # the hull cuts its holes from the same records
-    from swiftfin.layout.hull_plan import hull_pieces
-    for pc in hull_pieces(p):
-        found: dict[tuple, list] = {}
-        for route, q0, _, seat in bulkhead_passages(p, pc):
-            if seat is not None:
-                found.setdefault((route.joint + 1, route.side), []).append((q0, seat))
-        for (J, side), items in found.items():
-            for n, (q0, q1) in enumerate(items):
-                label = f"tube_{pc.name}_{J}_{SIDE_NAME[side]}{_suffix(n, len(items))}"
-                out.append(TubeRun(label, J, side, pc.link, "bulkhead", pc.name, (tuple(q0), tuple(q1)),
-                                   g.ptfe_tube_od_mm, g.ptfe_tube_id_mm))
-    return tuple(out)
 
 
 # ----------------------------------------------------------------------------------------------- bends
@@ -362,120 +261,6 @@ def bend_radius_problems(p: Params, bends=None) -> list[CableFinding]:
 
 
 # ----------------------------------------------------------------------------------------------- meshes
-def _frames(pts: np.ndarray):
-    """Unit tangents (mean of the neighbouring segments) and a parallel-transported normal at each point."""
-    d = np.diff(pts, axis=0)
-    d = d / np.linalg.norm(d, axis=1)[:, None]
-    t = np.vstack([d[:1], d[:-1] + d[1:], d[-1:]])
-    t = t / np.linalg.norm(t, axis=1)[:, None]
-    ref = np.array([0.0, 0.0, 1.0]) if abs(t[0][2]) < 0.9 else np.array([1.0, 0.0, 0.0])
-    n = np.cross(t[0], ref)
-    n /= np.linalg.norm(n)
-    ns = [n]
-    for i in range(1, len(t)):
-        n = n - (n @ t[i]) * t[i]
-        n /= np.linalg.norm(n)
-        ns.append(n)
-    ns = np.asarray(ns)
-    bs = np.cross(t, ns)
-    # a section at a point where the line turns is stretched by 1 / cos(half the turn) so the swept radius holds
-    half = np.zeros(len(pts))
-    if len(pts) > 2:
-        half[1:-1] = np.arccos(np.clip(np.einsum("ij,ij->i", d[:-1], d[1:]), -1, 1)) / 2
-    return t, ns, bs, 1.0 / np.cos(half)
-
-
-def _ring(c, n, b, stretch_dir, stretch, radius, sides):
-    ang = 2 * math.pi * (np.arange(sides) + 0.5) / sides
-    vec = np.outer(np.cos(ang), n) + np.outer(np.sin(ang), b)
-    # stretch along the turn's in-plane direction (the miter): the component of vec along stretch_dir
-    if stretch != 1.0:
-        comp = vec @ stretch_dir
-        vec = vec + np.outer(comp * (stretch - 1.0), stretch_dir)
-    return c + radius * vec
-
-
-def sweep_mesh(points, radius: float, sides: int, inner_radius: float = 0.0, round_ends: bool = False
-               ) -> tuple[np.ndarray, np.ndarray]:
-    """Closed triangle mesh of a circle (or a ring ``inner_radius``..``radius``) swept along a smooth polyline:
-    polygon circumscribed about the circle (inscribed in the bore), flat or half-sphere ends, outward normals."""
-    pts = _dedupe(np.asarray(points, float))
-    if len(pts) < 2:
-        raise ValueError("a sweep needs two distinct points")
-    t, ns, bs, st = _frames(pts)
-    d = np.diff(pts, axis=0)
-    d = d / np.linalg.norm(d, axis=1)[:, None]
-    r_out = radius / math.cos(math.pi / sides)
-    m = len(pts)
-
-    def miter(i):
-        if 0 < i < m - 1:
-            w = d[i] - d[i - 1]
-            nw = np.linalg.norm(w)
-            if nw > 1e-12:
-                w = w - (w @ t[i]) * t[i]
-                return w / np.linalg.norm(w), st[i]
-        return t[i], 1.0
-
-    verts, faces = [], []
-
-    def add_rings(rad):
-        base = len(verts)
-        for i in range(m):
-            sd, s = miter(i)
-            verts.extend(_ring(pts[i], ns[i], bs[i], sd, s, rad, sides))
-        return base
-
-    def side_faces(base, flip):
-        for i in range(m - 1):
-            for k in range(sides):
-                a, b = base + i * sides + k, base + i * sides + (k + 1) % sides
-                c, e = a + sides, b + sides
-                tri = [(a, b, e), (a, e, c)]
-                faces.extend([(x, z, y) for x, y, z in tri] if flip else tri)
-
-    outer = add_rings(r_out)
-    side_faces(outer, False)
-    if inner_radius > 0:
-        inner = add_rings(inner_radius)
-        side_faces(inner, True)
-        for i, flip in ((0, True), (m - 1, False)):
-            for k in range(sides):
-                a, b = outer + i * sides + k, outer + i * sides + (k + 1) % sides
-                c, e = inner + i * sides + k, inner + i * sides + (k + 1) % sides
-                tri = [(a, c, e), (a, e, b)]
-                faces.extend([(x, z, y) for x, y, z in tri] if not flip else tri)
-    else:
-        for i, sgn in ((0, -1.0), (m - 1, 1.0)):
-            ring0 = outer + i * sides
-            if round_ends:
-                prev = ring0
-                lat = max(2, sides // 4)
-                for q in range(1, lat):
-                    phi = q * (math.pi / 2) / lat
-                    base = len(verts)
-                    # circumscribe the half sphere too: radius r_out / cos of the half latitude step
-                    rr = r_out / math.cos(math.pi / 4 / lat)
-                    c = pts[i] + sgn * t[i] * rr * math.sin(phi)
-                    verts.extend(_ring(c, ns[i], bs[i], t[i], 1.0, rr * math.cos(phi), sides))
-                    for k in range(sides):
-                        a, b = prev + k, prev + (k + 1) % sides
-                        c2, e = base + k, base + (k + 1) % sides
-                        tri = [(a, b, e), (a, e, c2)]
-                        faces.extend(tri if sgn > 0 else [(x, z, y) for x, y, z in tri])
-                    prev = base
-                pole = len(verts)
-                verts.append(pts[i] + sgn * t[i] * r_out / math.cos(math.pi / 4 / lat))
-                ring0 = prev
-            else:
-                pole = len(verts)
-                verts.append(pts[i])
-            for k in range(sides):
-                a, b = ring0 + k, ring0 + (k + 1) % sides
-                faces.append((a, b, pole) if sgn > 0 else (a, pole, b))
-    return np.asarray(verts, float), np.asarray(faces, np.int64)
-
-
 def cable_parts(p: Params, pieces=None, tubes=None) -> list[Placed]:
     """Every cable piece and tube as a :class:`swiftfin.cad.assembly.Placed` mesh (families "cable", "tube"), for
     :func:`swiftfin.cad.assembly.check_assembly` together with the printed and bought parts."""

@@ -59,6 +59,7 @@ _PLANS: tuple[tuple[str, str, str], ...] = (
     ("swiftfin.layout.spool_plan:spool_plan", "spool.drum_diameter_mm", "the spools"),
     ("swiftfin.layout.cradle_plan:cradles", "components", "the components' cradles"),
     ("swiftfin.layout.cradle_plan:components_clear_of_motors", "components", "the components beside the motors"),
+    ("swiftfin.layout.tube_plan:tubes_inside_hull", "spool.drum_diameter_mm", "the PTFE tubes"),
 )
 
 

@@ -163,14 +163,19 @@ def _tube_seat(b: GuideBlock, ch: Channel, shoulder_mm: float) -> tuple | None:
     ang = np.linspace(0, 2 * math.pi, SEAT_RING_POINTS, endpoint=False)
     rim = ch.diameter_mm / 2 * (np.cos(ang)[:, None] * e1 + np.sin(ang)[:, None] * e2)
     depth = np.linspace(0.0, shoulder_mm, 4)
+    first = last                          # the run of points inside the block ending at ``last``, never index 0:
+    while first > 1 and inside[first - 1]:    # the bore keeps a length of straight
+        first -= 1
+    if last < 1:
+        return None
+    cand = np.arange(last, first - 1, -1)                                   # farthest first
+    q = start + s[cand, None] * d                                           # (k, 3)
+    ring = q[:, None, None, :] + depth[None, :, None, None] * d + rim[None, None, :, :]  # (k, depths, points, 3)
+    filled = inside_block(b, ring.reshape(-1, 3)).reshape(ring.shape[:3]).mean(axis=2).min(axis=1)
     for need in (1.0, SEAT_RIM_FRACTION):
-        for i in range(last, 0, -1):      # not at the straight's start: the bore keeps a length of straight
-            if not inside[i]:
-                break
-            q = start + s[i] * d
-            ring = q + depth[:, None, None] * d + rim[None, :, :]          # (depths, points, 3)
-            if min(inside_block(b, r).mean() for r in ring) >= need:
-                return tuple(float(c) for c in q)
+        ok = np.flatnonzero(filled >= need)
+        if len(ok):
+            return tuple(float(c) for c in q[ok[0]])
     return None
 
 

@@ -6,6 +6,7 @@ The geometry these numbers describe is documented in :mod:`swiftfin.cad.link`, w
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -264,7 +265,10 @@ def _pin(where: str, d: float, lug: tuple, link_span: tuple, inner_limit: float,
     return hp
 
 
-def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
+@functools.lru_cache(maxsize=256)
+def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, tuple[Problem, ...]]:
+    """Joint j's numbers and what stops its link being built. Memoised on the params (the loader's plans ask for
+    every joint's hardware about 60 times per design, 2026-12-07), so the problems come back as a tuple."""
     problems: list[Problem] = []
     n = p.joints.count
     if not 1 <= j <= n:
@@ -419,7 +423,7 @@ def _joint_hardware(p: Params, j: int) -> tuple[JointHardware, list[Problem]]:
         cable_hole_diameter_mm=dc + 2 * cs, tongue_half_deg=beta, tongue_radius_mm=rt, block_span_deg=span,
         block_outer_radius_mm=rbo, arm_half_width_mm=arm, flange_thickness_mm=tf, flange_half_width_mm=w_f,
         flange_z_mm=fz, flange_keep_out_mm=keep_out, bolt_points_yz_mm=bolts, bolt_hole_diameter_mm=s.insert_hole_mm,
-        flange_screw=s.name, cable_diameter_mm=dc), problems
+        flange_screw=s.name, cable_diameter_mm=dc), tuple(problems)
 
 
 def all_joint_hardware(p: Params) -> tuple[JointHardware, ...]:

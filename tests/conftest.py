@@ -12,6 +12,19 @@ SHARED = ROOT.parent / "shared"
 DEFAULT_DESIGN = ROOT / "swiftfin.toml"
 
 
+def clear_layout_caches() -> None:
+    """Forget every memoised number of the layout (each ``functools.lru_cache`` in ``swiftfin.layout``), for a test
+    that patches a layout function to show what the design would be without it: a memo made before the patch
+    would answer for the patched design (``layout.joints._joint_hardware`` is memoised since 2026-12-07)."""
+    import sys
+    for name, mod in list(sys.modules.items()):
+        if not name.startswith("swiftfin.layout") or mod is None:
+            continue
+        for value in vars(mod).values():
+            if callable(getattr(value, "cache_clear", None)) and getattr(value, "__module__", "") == name:
+                value.cache_clear()
+
+
 def session_shared_dir(tmp_path_factory) -> Path:
     """A folder every test of the run shares. Under pytest-xdist each worker has its own base folder, all in one
     folder of the run: that one (the run's own base folder without xdist)."""

@@ -209,16 +209,15 @@ def test_cables_passing_under_joint_1s_sector_keep_their_glands_clear_of_its_roo
     for g, n_near, margin in got:
         assert n_near > 0 and margin >= -1e-6, (g.label, margin)     # within the room's reach, under its floor
         assert g.packed_mm > wall - L.tube_seat_shoulder_mm(p) - 1.0 and g.packed_mm > g.stroke_mm
+    from tests.conftest import clear_layout_caches
     monkeypatch.setattr(L, "joint1_lift_mm", lambda p: 0.0)
-    for fn in (L.cable_routes, L.tube_seat_shoulder_mm):
-        fn.cache_clear()
+    clear_layout_caches()
     try:
         for g, n_near, margin in passing(p):
             assert margin < -1.0 and g.packed_mm <= g.stroke_mm, (g.label, margin, g.packed_mm)
     finally:
         monkeypatch.undo()
-        for fn in (L.cable_routes, L.tube_seat_shoulder_mm):
-            fn.cache_clear()
+        clear_layout_caches()
 
 
 def _default_with(key: str, value) -> dict:

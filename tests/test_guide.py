@@ -367,11 +367,8 @@ BAY_CROSSING = __import__("pathlib").Path(__file__).parent / "data" / "seeded_ba
 
 
 def _clear_route_caches():
-    from swiftfin.cad.cables import tube_runs
-    from swiftfin.layout import guide_plan
-    for fn in (L.cable_routes, L.tube_seat_shoulder_mm, guide_plan.bare_guide_blocks, guide_plan.guide_blocks,
-               tube_runs):
-        getattr(fn, "cache_clear", lambda: None)()
+    from tests.conftest import clear_layout_caches
+    clear_layout_caches()
 
 
 def test_joint_1s_cable_passes_over_the_lanes_it_crosses(monkeypatch):
