@@ -139,6 +139,8 @@ SEAT_STEP_MM = 0.05
 """Step along a channel's outgoing straight when placing its tube's seat."""
 SEAT_RING_POINTS = 16
 """Points round the bore's rim at which the shoulder is proved to be printed material."""
+SEAT_CHUNK = 16
+"""Candidate seats measured at once, farthest first (numpy over a chunk; the search stops at the first whole rim)."""
 SEAT_RIM_FRACTION = 0.75
 """Least share of the bore's rim a shoulder must close where no seat closes all of it (the tube check asks half
 the ring, ``cad/cables.py`` STOP_FILL_FRACTION)."""
@@ -170,13 +172,16 @@ def _tube_seat(b: GuideBlock, ch: Channel, shoulder_mm: float) -> tuple | None:
         return None
     cand = np.arange(last, first - 1, -1)                                   # farthest first
     q = start + s[cand, None] * d                                           # (k, 3)
-    ring = q[:, None, None, :] + depth[None, :, None, None] * d + rim[None, None, :, :]  # (k, depths, points, 3)
-    filled = inside_block(b, ring.reshape(-1, 3)).reshape(ring.shape[:3]).mean(axis=2).min(axis=1)
-    for need in (1.0, SEAT_RIM_FRACTION):
-        ok = np.flatnonzero(filled >= need)
-        if len(ok):
-            return tuple(float(c) for c in q[ok[0]])
-    return None
+    filled = []
+    for k0 in range(0, len(cand), SEAT_CHUNK):       # a whole rim is usually found among the farthest few
+        ring = (q[k0:k0 + SEAT_CHUNK, None, None, :] + depth[None, :, None, None] * d
+                + rim[None, None, :, :])                                    # (k, depths, points, 3)
+        filled.append(inside_block(b, ring.reshape(-1, 3)).reshape(ring.shape[:3]).mean(axis=2).min(axis=1))
+        whole = np.flatnonzero(filled[-1] >= 1.0)
+        if len(whole):
+            return tuple(float(c) for c in q[k0 + whole[0]])
+    ok = np.flatnonzero(np.concatenate(filled) >= SEAT_RIM_FRACTION)
+    return tuple(float(c) for c in q[ok[0]]) if len(ok) else None
 
 
 def screw_hole_diameter_mm(p: Params) -> float:

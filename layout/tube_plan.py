@@ -68,16 +68,9 @@ def _straight_samples(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
-    out, start = [], None
-    for i, v in enumerate(mask):
-        if v and start is None:
-            start = i
-        if not v and start is not None:
-            out.append((start, i - 1))
-            start = None
-    if start is not None:
-        out.append((start, len(mask) - 1))
-    return out
+    """(first, last) index of each run of True in ``mask``."""
+    edge = np.diff(np.concatenate([[0], np.asarray(mask, dtype=np.int8), [0]]))
+    return [(int(i), int(k) - 1) for i, k in zip(np.flatnonzero(edge == 1), np.flatnonzero(edge == -1))]
 
 
 def _cut_at(pts: np.ndarray, seat: np.ndarray) -> np.ndarray:
