@@ -16,7 +16,8 @@ Fasteners (:func:`hull_fasteners`, registered in ``cad/fastening.py``; body fram
   (``hull.seam_dowel_diameter_mm``; the first feature on +y, the last on -y) in reamed bores of bosses on both
   halves aligns them; its record names the upper half (press fit) and ``meta["joins_parts"]`` the lower half,
   whose bore :mod:`swiftfin.cad.hull` cuts from the same record. Features keep out of the bulkheads and out of
-  the swing of the link behind (the link's sector radius + ``print.clearance_assembly_mm``).
+  the swing of the link behind (the link's sector radius + ``print.clearance_assembly_mm``), and from under the
+  PTFE guides in plan (``print.clearance_sliding_mm``: the lid's bosses rise past them, :func:`_clear_of_the_guides`).
 * **Station splices** (a segment cut to fit the bed): per half two screws entering the skin at
   ``y = +-SPLICE_Y_FRACTION`` of the inner half-width, along the shell's inward normal, heads in
   counterbores of a local thickening (pad) of the rear piece's shell, threads in inserts in two tabs of the
@@ -539,6 +540,79 @@ def _seam_range(p: Params, pc: HullPiece) -> tuple[float, float]:
     return lo, hi
 
 
+def _guide_footprints(p: Params, pc: HullPiece) -> list[tuple[str, float, float, float, float]]:
+    """(label, x0, x1, y0, y1) of each PTFE guide over the seam of ``pc`` in plan (its box: it holds the guide,
+    which the hull's clip and the spools' keep-outs only cut down); none off the head, or where the guides cannot be
+    laid out (their own plan says why)."""
+    if pc.link != 0:
+        return []
+    from swiftfin.layout.guide_plan import bare_guide_blocks
+    try:
+        blocks = bare_guide_blocks(p)
+    except UserError:
+        return []
+    return [(b.label, *b.x_mm, *b.y_mm) for b in blocks
+            if b.z_mm[0] > 0 and -b.x_mm[1] < pc.s_end_mm and -b.x_mm[0] > pc.s_start_mm]
+
+
+def _plan_gap_mm(s_mm: float, y_mm: float, r_mm: float, box) -> float:
+    """Gap in plan between a boss (circle of ``r_mm`` at x = -s, y) and a guide's box (<= 0: it stands under it)."""
+    _, x0, x1, y0, y1 = box
+    x = -s_mm
+    dx, dy = max(x0 - x, 0.0, x - x1), max(y0 - y_mm, 0.0, y_mm - y1)
+    return math.hypot(dx, dy) - r_mm
+
+
+SEAM_NUDGE_STEP_MM = 0.5
+"""Step along the seam by which a feature standing under a guide is moved out from under it."""
+
+
+def _clear_of_the_guides(p: Params, pc: HullPiece, ss: list[float], side_kinds: dict, lo: float, hi: float,
+                         gap: float) -> list[float]:
+    """The seam stations ``ss`` with each feature whose upper-half boss would stand under a PTFE guide in plan, or
+    within ``print.clearance_sliding_mm`` of it, moved along the seam until it clears (toward the nearer free
+    station, keeping [lo, hi] and its neighbours' bosses apart): lifted off, the upper half's bosses rise past the
+    guides, which stay on the motors' mounts. ``hull.seam_screw_spacing_mm = 30`` put a boss 0.27 mm under the bay
+    guide and the assembly steps found no way to open the head (2026-12-07). Raises BuildError when none clears."""
+    boxes = _guide_footprints(p, pc)
+    if not boxes:
+        return ss
+    need = p.print.clearance_sliding_mm
+    radius = {"screw": seam_screw_radius_mm(p), "dowel": seam_dowel_radius_mm(p)}
+
+    def clear(i: int, s: float) -> bool:
+        for side, kinds in side_kinds.items():
+            kind = kinds[i]
+            y = side * seam_axis_y_mm(p, s, kind, gap)
+            if any(_plan_gap_mm(s, y, radius[kind], b) < need for b in boxes):
+                return False
+        return True
+
+    def apart(i: int, s: float, out: list[float]) -> bool:
+        r_i = max(radius[kinds[i]] for kinds in side_kinds.values())
+        for j in (i - 1, i + 1):
+            if 0 <= j < len(out):
+                r_j = max(radius[kinds[j]] for kinds in side_kinds.values())
+                if (s - out[j]) * (i - j) < r_i + r_j:      # its side of the neighbour, the bosses apart
+                    return False
+        return True
+
+    out = list(ss)
+    for i, s0 in enumerate(ss):
+        if clear(i, s0):
+            continue
+        tries = [s0 + sign * SEAM_NUDGE_STEP_MM * k for k in range(1, 400) for sign in (-1, 1)]
+        s_new = next((s for s in tries if lo <= s <= hi and clear(i, s) and apart(i, s, out)), None)
+        if s_new is None:
+            raise BuildError(f"hull.seam_screw_spacing_mm = {p.hull.seam_screw_spacing_mm:g}: {pc.name}'s seam "
+                             f"{side_kinds[1][i]} at s = {s0:.1f} mm stands under a PTFE guide in plan, and no "
+                             f"station between {lo:.1f} and {hi:.1f} mm clears it by print.clearance_sliding_mm "
+                             f"({need:g} mm) away from its neighbours: the head's lid could not be lifted off past it; "
+                             f"choose another spacing")
+        out[i] = s_new
+    return out
+
+
 def seam_features(p: Params, pc: HullPiece) -> tuple[SeamFeature, ...]:
     """Screws and dowels along both sides of the seam of ``pc`` (none when the hull is not split)."""
     if not p.hull.split_halves:
@@ -555,12 +629,16 @@ def seam_features(p: Params, pc: HullPiece) -> tuple[SeamFeature, ...]:
     floor = boss_floor_mm(p)
     gap = seam_gasket_gap_mm(p, pc)
     ld = seam_dowel_length_mm(p, gap)
-    out = []
+    side_kinds = {}
     for side in (1, -1):
         kinds = ["screw"] * n
         if with_dowel:
             kinds = ["dowel"] + kinds if side > 0 else kinds + ["dowel"]
-        for i, (kind, s) in enumerate(zip(kinds, ss)):
+        side_kinds[side] = kinds
+    ss = _clear_of_the_guides(p, pc, ss, side_kinds, lo, hi, gap)
+    out = []
+    for side in (1, -1):
+        for i, (kind, s) in enumerate(zip(side_kinds[side], ss)):
             y = side * seam_axis_y_mm(p, s, kind, gap)
             if kind == "screw":
                 a, b = _semi_axes_under(p, s, rs)

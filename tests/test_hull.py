@@ -766,3 +766,43 @@ def test_the_joint_gaps_clear_the_parents_lugs(changes):
         aft_most = piece_solid(p, parent).bounding_box().min.X
         fore_most = piece_solid(p, child).bounding_box().max.X
         assert aft_most - fore_most >= p.print.clearance_assembly_mm - 1e-6, (j, aft_most, fore_most)
+
+
+def test_the_head_lid_lifts_off_past_the_guides(monkeypatch):
+    """Lifted off, the upper half's seam bosses rise past the PTFE guides (which stay on the motors' mounts). With
+    ``hull.seam_screw_spacing_mm = 30`` an evenly spaced boss stood 0.27 mm under the bay guide in plan, and the
+    build failed at its end: the assembly steps found no part that could come out (2026-12-07). Measured on the
+    B-rep guides: the vertical prism each upper boss sweeps, widened by print.clearance_sliding_mm, meets no guide;
+    on the even spacing it met the bay guide. The default's stations are the even ones (its boss under the bay
+    guide clears by 0.37 mm in plan)."""
+    import swiftfin.layout.hull_plan as HP
+    from swiftfin.cad.guide import guide_solid
+    from swiftfin.layout.guide_plan import guide_blocks
+
+    def prisms(p):
+        tops = {b.label: b.z_mm[1] for b in guide_blocks(p)}
+        out = []
+        for pc in hull_pieces(p):
+            if pc.link != 0:
+                continue
+            for f in HP.seam_features(p, pc):
+                r = f.boss_radius_mm + p.print.clearance_sliding_mm - 0.005
+                out.append((f, bd.Solid.make_cylinder(r, max(tops.values()) + 1,
+                                                      bd.Plane(origin=(-f.s_mm, f.y_mm, 0.0)))))
+        return out
+
+    def met(p):
+        guides = [(b.label, guide_solid(b)) for b in guide_blocks(p)]
+        return [(f.piece, round(f.s_mm, 1), label) for f, prism in prisms(p) for label, g in guides
+                if g.bounding_box().min.X - 5 < -f.s_mm < g.bounding_box().max.X + 5
+                and _volume(g & prism) > 1e-6]
+
+    def _volume(shape) -> float:
+        return 0.0 if shape is None else shape.volume
+
+    p = replace_key(P, "hull.seam_screw_spacing_mm", 30.0)
+    assert met(p) == [] and met(P) == []
+    with monkeypatch.context() as m:
+        m.setattr(HP, "_clear_of_the_guides", lambda p, pc, ss, *rest: ss)
+        even = met(p)
+    assert even and all(label == "guide_bay" for _, _, label in even), even
