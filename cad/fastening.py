@@ -29,7 +29,7 @@ FASTENER_PLANS.update(hull="swiftfin.layout.hull_plan:hull_fasteners", fin="swif
 FASTENER_PLANS.update(spool="swiftfin.layout.spool_plan:spool_fasteners")
 FASTENER_PLANS.update(link="swiftfin.layout.link_plan:link_fasteners")
 FASTENER_PLANS.update(mount="swiftfin.layout.mount_plate_plan:mount_fasteners",
-                      guide="swiftfin.layout.guide_plan:guide_fasteners")
+                      guide="swiftfin.layout.guide_screws:guide_fasteners")
 
 OVERCUT_MM = 0.5
 """Cutters run this far past the faces they open, so no zero-thickness skin is left."""

@@ -53,7 +53,7 @@ _PLANS: tuple[tuple[str, str, str], ...] = (
     ("swiftfin.layout.link_plan:link_fasteners", "joints.pin_diameter_mm", "the joints' pins, plugs and flange screws"),
     ("swiftfin.layout.fin_plan:fin_fasteners", "caudal_fin.mount_length_mm", "the fin root's screws"),
     ("swiftfin.layout.mount_plan:wall_fixings", "hull.screw_diameter_mm", "the motor mounts' wall fixings"),
-    ("swiftfin.layout.guide_plan:guide_fasteners", "spool.drum_diameter_mm", "the PTFE guides and their screws"),
+    ("swiftfin.layout.guide_screws:guide_fasteners", "spool.drum_diameter_mm", "the PTFE guides and their screws"),
     ("swiftfin.layout.gland_plan:gland_plan", "hull.cable_gland_length_mm", "the cable glands through the dry wall"),
     ("swiftfin.layout.mount_plate_plan:mount_fasteners", "motor.frame_size_mm", "the motor mounts' plates"),
     ("swiftfin.layout.spool_plan:spool_plan", "spool.drum_diameter_mm", "the spools"),

@@ -11,9 +11,9 @@ the solids from the same numbers.
   ``motor_mount_1``'s plate; notched over the plate, it hangs down behind the motor as far as the descending
   channels need, and prints upside down (its top is the one flat face).
 
-Screws (:func:`guide_fasteners`, registered in ``cad/fastening.py``): ``guides.screw_diameter_mm`` cap screws
-driven down from the guide's top into brass heat-set inserts in the tops of the mount's posts (the post holds the
-insert maker's wall round it). The head sits on the guide's top when the shortest screw that fills the insert is
+Screws (:func:`swiftfin.layout.guide_screws.guide_fasteners`, registered in ``cad/fastening.py``):
+``guides.screw_diameter_mm`` cap screws driven down from the guide's top into brass heat-set inserts in the tops
+of the mount's posts (the post holds the insert maker's wall round it). The head sits on the guide's top when the shortest screw that fills the insert is
 one the post can take; otherwise (the tall bay guide) it sinks in a shallow counterbore just deep enough for the
 longest catalogue length to fill the insert exactly (a deeper one would open into the channels below). The key
 comes from above, before the upper hull half goes on.
@@ -42,7 +42,6 @@ import numpy as np
 from swiftfin.catalogues.fasteners import fastener
 from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
-from swiftfin.layout.fastening import Fastener
 from swiftfin.layout.geometry import (BAY_GUIDE_BENDS, MIN_WEB_LINES, MOTOR_PITCH_GAP_MM, cable_exit_hole_mm,
                                       cable_routes, half_height_mm, motor_placements, naca_half_width_mm, spool_dims,
                                       tube_bore_diameter_mm, tube_seat_shoulder_mm)
@@ -603,21 +602,3 @@ def guide_screw_fit(p: Params, b: GuideBlock, post_height_mm: float) -> tuple[fl
                          f"({post_height_mm:.1f} mm)")
     grip = length - s.insert_length_mm
     return length, grip, grip_max - grip
-
-
-def guide_fasteners(p: Params) -> tuple[Fastener, ...]:
-    """Every guide's screws: down from its top into inserts in its mount's posts (see the module docstring)."""
-    from swiftfin.layout.hull_plan import hull_pieces, part_label
-    pieces = hull_pieces(p)
-    z_face = {f"motor_mount_{mp.joint + 1}": mp.z_face_mm for mp in motor_placements(p)}
-    out = []
-    for b in bare_guide_blocks(p):
-        s = fastener(b.screw_diameter_mm)
-        length, grip, recess = guide_screw_fit(p, b, b.seat_mm - z_face[b.mount])
-        for i, (x, y) in enumerate(b.screw_points_mm):
-            pc = next(q for q in pieces if q.s_start_mm <= -x <= q.s_end_mm)
-            out.append(Fastener(f"{b.label}_screw_{i + 1}", s.name, "cap_screw", "insert", (x, y, b.seat_mm + grip),
-                                (0.0, 0.0, -1.0), length, grip, b.label, b.mount,
-                                f"holds {b.label} on the posts of {b.mount}", 0, recess_mm=recess,
-                                installed_after=(part_label(p, pc, "upper"),)))
-    return tuple(out)

@@ -27,7 +27,7 @@ above the face). Its joints:
 * **Guides <-> mount**: posts (:func:`swiftfin.layout.guide_plan.post_radius_mm` across: the insert boss rule)
   under the guide blocks' screw points (:func:`swiftfin.layout.guide_plan.guide_blocks`; motor_mount_1 reaches aft
   under the bay guide), inserts in their tops, screws from the guides' tops
-  (:func:`swiftfin.layout.guide_plan.guide_fasteners`).
+  (:func:`swiftfin.layout.guide_screws.guide_fasteners`).
 """
 from __future__ import annotations
 
