@@ -12,11 +12,11 @@ the solids from the same numbers.
   channels need, and prints upside down (its top is the one flat face).
 
 Screws (:func:`swiftfin.layout.guide_screws.guide_fasteners`, registered in ``cad/fastening.py``):
-``guides.screw_diameter_mm`` cap screws driven down from the guide's top into brass heat-set inserts in the tops
-of the mount's posts (the post holds the insert maker's wall round it). The head sits on the guide's top when the
-shortest screw that fills the insert is one the post can take; otherwise (the tall bay guide) it sinks in a
-shallow counterbore just deep enough for the longest catalogue length to fill the insert exactly (a deeper one would open into the channels below). The key
-comes from above, before the upper hull half goes on.
+``guides.screw_diameter_mm`` cap screws driven down from the guide's top into brass heat-set inserts in the tops of
+the mount's posts (the post holds the insert maker's wall round it). The head sits on the guide's top when the
+shortest screw that fills the insert is one the post can take; otherwise (the tall bay guide) it sinks in a shallow
+counterbore just deep enough for the longest catalogue length to fill the insert exactly (a deeper one would open
+into the channels below). The key comes from above, before the upper hull half goes on.
 
 **Tube seats.** Each cable's channel is the PTFE tube's bore (OD + sliding clearance) from the face where the
 cable comes in (the mouth: the tube is pushed in there) to its seat near the face where the cable leaves, a printed
