@@ -17,7 +17,8 @@ Fasteners (:func:`hull_fasteners`, registered in ``cad/fastening.py``; body fram
   halves aligns them; its record names the upper half (press fit) and ``meta["joins_parts"]`` the lower half,
   whose bore :mod:`swiftfin.cad.hull` cuts from the same record. Features keep out of the bulkheads and out of
   the swing of the link behind (the link's sector radius + ``print.clearance_assembly_mm``), and from under the
-  PTFE guides in plan (``print.clearance_sliding_mm``: the lid's bosses rise past them, :func:`_clear_of_the_guides`).
+  PTFE guides in plan (``print.clearance_sliding_mm``: the lid's bosses rise past them,
+  :func:`_clear_of_the_guides`).
 * **Station splices** (a segment cut to fit the bed): per half two screws entering the skin at
   ``y = +-SPLICE_Y_FRACTION`` of the inner half-width, along the shell's inward normal, heads in
   counterbores of a local thickening (pad) of the rear piece's shell, threads in inserts in two tabs of the
@@ -36,6 +37,7 @@ from swiftfin.core.errors import BuildError, UserError
 from swiftfin.core.schema import Params
 from swiftfin.layout import geometry as L
 from swiftfin.layout.fastening import Fastener
+from swiftfin.layout.guide_plan import bare_guide_blocks
 from swiftfin.layout.joints import joint_hardware
 from swiftfin.layout.mount_plan import mount_fixings_mm
 
@@ -546,7 +548,6 @@ def _guide_footprints(p: Params, pc: HullPiece) -> list[tuple[str, float, float,
     laid out (their own plan says why)."""
     if pc.link != 0:
         return []
-    from swiftfin.layout.guide_plan import bare_guide_blocks
     try:
         blocks = bare_guide_blocks(p)
     except UserError:
@@ -604,9 +605,10 @@ def _clear_of_the_guides(p: Params, pc: HullPiece, ss: list[float], side_kinds: 
         tries = [s0 + sign * SEAM_NUDGE_STEP_MM * k for k in range(1, 400) for sign in (-1, 1)]
         s_new = next((s for s in tries if lo <= s <= hi and clear(i, s) and apart(i, s, out)), None)
         if s_new is None:
+            over = ", ".join(b[0] for b in boxes)
             raise BuildError(f"hull.seam_screw_spacing_mm = {p.hull.seam_screw_spacing_mm:g}: {pc.name}'s seam "
-                             f"{side_kinds[1][i]} at s = {s0:.1f} mm stands under a PTFE guide in plan, and no "
-                             f"station between {lo:.1f} and {hi:.1f} mm clears it by print.clearance_sliding_mm "
+                             f"{side_kinds[1][i]} at s = {s0:.1f} mm stands under a PTFE guide ({over}) in plan, and "
+                             f"no station between {lo:.1f} and {hi:.1f} mm clears it by print.clearance_sliding_mm "
                              f"({need:g} mm) away from its neighbours: the head's lid could not be lifted off past it; "
                              f"choose another spacing")
         out[i] = s_new

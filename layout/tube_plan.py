@@ -130,9 +130,10 @@ beyond their centre lines for 2.02 mm radii; tests/test_tube_plan.py checks the 
 
 def tube_outside_hull_mm(p: Params, t: TubeRun) -> tuple[float, tuple]:
     """How far the tube's outer surface stands out of the hull's inner surface at its worst vertex [mm] (<= 0
-    inside; for a tube deep inside, a bound: :data:`SCREEN_REACH`), and where: the outer vertices of the mesh the build checks (:func:`swiftfin.layout.sweep.sweep_mesh`,
-    polygon circumscribed about the tube; its bore lies within them), measured as the assembly check measures a
-    part (:func:`swiftfin.layout.geometry.inner_envelope_excess_mm`)."""
+    inside; for a tube deep inside, a bound: :data:`SCREEN_REACH`), and where: the outer vertices of the mesh the
+    build checks (:func:`swiftfin.layout.sweep.sweep_mesh`, polygon circumscribed about the tube; its bore lies
+    within them), measured as the assembly check measures a part
+    (:func:`swiftfin.layout.geometry.inner_envelope_excess_mm`)."""
     centre = np.asarray(t.points_mm, float)
     reach = SCREEN_REACH * t.od_mm / 2 / math.cos(math.pi / TUBE_SIDES)
     ex = L.inner_envelope_excess_mm(p, centre)
