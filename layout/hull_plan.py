@@ -605,7 +605,9 @@ def _clear_of_the_guides(p: Params, pc: HullPiece, ss: list[float], side_kinds: 
         tries = [s0 + sign * SEAM_NUDGE_STEP_MM * k for k in range(1, 400) for sign in (-1, 1)]
         s_new = next((s for s in tries if lo <= s <= hi and clear(i, s) and apart(i, s, out)), None)
         if s_new is None:
-            over = ", ".join(b[0] for b in boxes)
+            over = ", ".join(b[0] for b in boxes if any(
+                _plan_gap_mm(s0, side * seam_axis_y_mm(p, s0, kinds[i], gap), radius[kinds[i]], b) < need
+                for side, kinds in side_kinds.items()))
             raise BuildError(f"hull.seam_screw_spacing_mm = {p.hull.seam_screw_spacing_mm:g}: {pc.name}'s seam "
                              f"{side_kinds[1][i]} at s = {s0:.1f} mm stands under a PTFE guide ({over}) in plan, and "
                              f"no station between {lo:.1f} and {hi:.1f} mm clears it by print.clearance_sliding_mm "
